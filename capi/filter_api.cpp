@@ -1,0 +1,167 @@
+// sf_filter_*: filters found by name, parameters by name, results, execution.
+#include <cstring>
+
+#include "api_guard.hpp"
+#include "statfilter/filter_registry.hpp"
+
+using namespace statfilter;
+using namespace statfilter::capi;
+
+namespace {
+
+sf_filter_s& require_filter(sf_filter filter) { return require(filter, "filter"); }
+
+// Runs body against a filter, recording failures on the handle as well as the thread.
+template <class Body>
+sf_status on_filter(sf_filter filter, Body&& body) {
+    std::string* handle_error = filter ? &filter->last_error : nullptr;
+    return guarded([&] { body(require_filter(filter)); }, handle_error);
+}
+
+std::string join(const std::vector<std::string>& items) {
+    std::string out;
+    for (const auto& s : items) out += (out.empty() ? "" : ",") + s;
+    return out;
+}
+
+}  // namespace
+
+extern "C" {
+
+int sf_filter_count(void) { return static_cast<int>(filter_registry().size()); }
+
+const char* sf_filter_name(int index) {
+    const auto& reg = filter_registry();
+    if (index < 0 || static_cast<size_t>(index) >= reg.size()) return nullptr;
+    return reg[static_cast<size_t>(index)].name.c_str();
+}
+
+const char* sf_filter_description(const char* name) {
+    if (!name) return nullptr;
+    for (const auto& e : filter_registry())
+        if (e.name == name) return e.description.c_str();
+    return nullptr;
+}
+
+sf_status sf_filter_create(const char* name, sf_filter* out) {
+    return guarded([&] {
+        require(out, "out") = nullptr;
+        auto handle = std::make_unique<sf_filter_s>();
+        handle->name = require_string(name, "name");
+        handle->filter = create_filter(handle->name);
+        *out = handle.release();
+    });
+}
+
+sf_status sf_filter_release(sf_filter filter) {
+    return guarded([&] { delete filter; });
+}
+
+const char* sf_filter_last_error(sf_filter filter) { return filter ? filter->last_error.c_str() : ""; }
+
+sf_status sf_filter_set_int(sf_filter filter, const char* name, int64_t value) {
+    return on_filter(filter, [&](sf_filter_s& f) { f.filter->params().set_int(require_string(name, "name"), value); });
+}
+
+sf_status sf_filter_set_float(sf_filter filter, const char* name, double value) {
+    return on_filter(filter, [&](sf_filter_s& f) { f.filter->params().set_float(require_string(name, "name"), value); });
+}
+
+sf_status sf_filter_set_string(sf_filter filter, const char* name, const char* value) {
+    return on_filter(filter, [&](sf_filter_s& f) {
+        f.filter->params().set_string(require_string(name, "name"), require_string(value, "value"));
+    });
+}
+
+sf_status sf_filter_get_int(sf_filter filter, const char* name, int64_t* value) {
+    return on_filter(filter, [&](sf_filter_s& f) {
+        require(value, "value") = f.filter->params().get_int(require_string(name, "name"));
+    });
+}
+
+sf_status sf_filter_get_float(sf_filter filter, const char* name, double* value) {
+    return on_filter(filter, [&](sf_filter_s& f) {
+        require(value, "value") = f.filter->params().get_float(require_string(name, "name"));
+    });
+}
+
+sf_status sf_filter_get_string(sf_filter filter, const char* name, const char** value) {
+    return on_filter(filter, [&](sf_filter_s& f) {
+        require(value, "value") = f.filter->params().get_string(require_string(name, "name")).c_str();
+    });
+}
+
+sf_status sf_filter_param_count(sf_filter filter, int* count) {
+    return on_filter(filter, [&](sf_filter_s& f) {
+        require(count, "count") = static_cast<int>(f.filter->params().specs().size());
+    });
+}
+
+sf_status sf_filter_param_info(sf_filter filter, int index, sf_param_info* info) {
+    return on_filter(filter, [&](sf_filter_s& f) {
+        sf_param_info& out = require(info, "info");
+        if (out.struct_size < sizeof(size_t) || out.struct_size > sizeof(sf_param_info))
+            throw Error(Status::InvalidArgument, "info.struct_size must be sizeof(sf_param_info)");
+        const auto& specs = f.filter->params().specs();
+        if (index < 0 || static_cast<size_t>(index) >= specs.size())
+            throw Error(Status::InvalidArgument, "parameter index " + std::to_string(index) + " out of range");
+        const ParamSpec& s = specs[static_cast<size_t>(index)];
+        // The choices text lives on the spec's owner: keep it alive in a per-spec cache.
+        static thread_local std::string choices;
+        choices = join(s.choices);
+        sf_param_info full;
+        full.struct_size = out.struct_size;
+        full.name = s.name.c_str();
+        full.type = static_cast<sf_param_type>(s.type);
+        full.default_value = s.default_value.c_str();
+        full.description = s.description.c_str();
+        full.min = s.min;
+        full.max = s.max;
+        full.choices = choices.c_str();
+        std::memcpy(&out, &full, out.struct_size);
+    });
+}
+
+sf_status sf_filter_result_count(sf_filter filter, int* count) {
+    return on_filter(filter, [&](sf_filter_s& f) {
+        require(count, "count") = static_cast<int>(f.filter->results().names().size());
+    });
+}
+
+sf_status sf_filter_result_name(sf_filter filter, int index, const char** name) {
+    return on_filter(filter, [&](sf_filter_s& f) {
+        const auto& names = f.filter->results().names();
+        if (index < 0 || static_cast<size_t>(index) >= names.size())
+            throw Error(Status::InvalidArgument, "result index " + std::to_string(index) + " out of range");
+        require(name, "name") = names[static_cast<size_t>(index)].c_str();
+    });
+}
+
+sf_status sf_filter_result_float(sf_filter filter, const char* name, double* value) {
+    return on_filter(filter, [&](sf_filter_s& f) {
+        require(value, "value") = f.filter->results().get_float(require_string(name, "name"));
+    });
+}
+
+sf_status sf_filter_result_string(sf_filter filter, const char* name, const char** value) {
+    return on_filter(filter, [&](sf_filter_s& f) {
+        require(value, "value") = f.filter->results().get_string(require_string(name, "name")).c_str();
+    });
+}
+
+sf_status sf_filter_set_progress(sf_filter filter, sf_progress_callback callback, void* user) {
+    return on_filter(filter, [&](sf_filter_s& f) {
+        f.progress = callback;
+        f.progress_user = user;
+    });
+}
+
+sf_status sf_filter_execute(sf_filter filter, sf_sequence input, sf_sequence output) {
+    return on_filter(filter, [&](sf_filter_s& f) {
+        Sequence& in = require_sequence(input, "input");
+        Sequence& out = require_sequence(output, "output");
+        f.filter->execute(in, out, make_progress(f.progress, f.progress_user));
+    });
+}
+
+}  // extern "C"

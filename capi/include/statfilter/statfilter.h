@@ -1,0 +1,250 @@
+/*
+ * statfilter: statistical temporal filtering of rendered indirect illumination.
+ *
+ * The stable C ABI (C99). Everything crosses as opaque handles, status codes, plain C structs
+ * and strided float buffers; no C++ type or exception crosses it. Only symbols prefixed sf_
+ * are exported.
+ *
+ * Conventions
+ *  - Every function returns an sf_status (or a value documented otherwise). On failure the
+ *    message is available from sf_last_error() on the calling thread, and for filters also
+ *    from sf_filter_last_error().
+ *  - A sequence holds F frames of H x W pixels with C float32 channels. Its memory is either
+ *    owned by statfilter (sf_sequence_create, sf_sequence_read) or borrowed from the caller
+ *    (sf_sequence_wrap) with byte strides for channel, pixel (x), row (y) and frame, so a
+ *    NumPy array passes in and out without a copy.
+ *  - Filters are created by name and configured by named parameters, so new filters and
+ *    parameters never change this ABI.
+ *  - Structs passed in carry their own size in their first member (struct_size); initialise
+ *    them with the matching *_init function, which fills defaults for the version you built
+ *    against.
+ *  - Strings returned as const char* stay valid until the owning handle is released (or, for
+ *    sf_last_error, until the next statfilter call on that thread).
+ */
+#ifndef STATFILTER_STATFILTER_H
+#define STATFILTER_STATFILTER_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#if defined(_WIN32)
+#  if defined(STATFILTER_BUILDING)
+#    define SF_API __declspec(dllexport)
+#  else
+#    define SF_API __declspec(dllimport)
+#  endif
+#else
+#  define SF_API __attribute__((visibility("default")))
+#endif
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* ---- version ------------------------------------------------------------------------------ */
+
+#define SF_VERSION_MAJOR 0
+#define SF_VERSION_MINOR 1
+#define SF_VERSION_PATCH 0
+/* MAJOR * 10000 + MINOR * 100 + PATCH of the header you compiled against. */
+#define SF_VERSION (SF_VERSION_MAJOR * 10000 + SF_VERSION_MINOR * 100 + SF_VERSION_PATCH)
+
+/* The version of the library actually loaded, in the same encoding as SF_VERSION. */
+SF_API int sf_version(void);
+/* The same as text, e.g. "0.1.0". */
+SF_API const char* sf_version_string(void);
+
+/* ---- status and errors -------------------------------------------------------------------- */
+
+typedef enum sf_status {
+    SF_OK = 0,
+    SF_ERROR_INVALID_ARGUMENT = 1, /* NULL pointer, bad value, wrong size, unknown name */
+    SF_ERROR_OUT_OF_MEMORY = 2,
+    SF_ERROR_IO = 3,               /* a file could not be read or written */
+    SF_ERROR_NOT_FOUND = 4,        /* no such frame, channel, layer, filter or parameter */
+    SF_ERROR_UNSUPPORTED = 5,
+    SF_ERROR_CANCELLED = 6,        /* the progress callback asked to stop */
+    SF_ERROR_NUMERIC = 7,          /* NaN/Inf or other values the chosen policy rejects */
+    SF_ERROR_INTERNAL = 8
+} sf_status;
+
+/* A short constant name for a status, e.g. "SF_ERROR_IO". */
+SF_API const char* sf_status_name(sf_status status);
+/* The message of the last failed call on this thread ("" if none). */
+SF_API const char* sf_last_error(void);
+
+/* Called on every failure (any thread) with the status and message; NULL removes it. */
+typedef void (*sf_error_callback)(void* user, sf_status status, const char* message);
+SF_API void sf_set_error_callback(sf_error_callback callback, void* user);
+
+/* Progress: fraction in [0, 1] and a short stage name. Return non-zero to cancel the work, which
+ * then fails with SF_ERROR_CANCELLED and leaves no partial output file behind. */
+typedef int (*sf_progress_callback)(void* user, double fraction, const char* stage);
+
+/* ---- sequences ---------------------------------------------------------------------------- */
+
+typedef struct sf_sequence_s* sf_sequence;
+
+typedef struct sf_shape {
+    int64_t frames;
+    int64_t height;
+    int64_t width;
+    int64_t channels;
+} sf_shape;
+
+/* Byte distances between neighbouring channels, pixels (x), rows (y) and frames. */
+typedef struct sf_strides {
+    int64_t channel;
+    int64_t pixel;
+    int64_t row;
+    int64_t frame;
+} sf_strides;
+
+/* A new sequence owning zero-filled, contiguous (frame, row, pixel, channel) memory.
+ * Channels are named "C0", "C1", ... until renamed; frames are numbered 1..F. Dimensions are
+ * checked before any allocation: each must be >= 1 and H * W must fit in 2^31 - 1 pixels. */
+SF_API sf_status sf_sequence_create(sf_shape shape, sf_sequence* out);
+
+/* A sequence over caller memory (not copied). The caller keeps the memory alive and unchanged
+ * in size until sf_sequence_release. Strides are in bytes and must be multiples of 4 and
+ * non-negative; the layout may be any order (e.g. a NumPy array's strides). */
+SF_API sf_status sf_sequence_wrap(float* data, sf_shape shape, sf_strides strides, sf_sequence* out);
+
+SF_API sf_status sf_sequence_release(sf_sequence sequence);
+
+SF_API sf_status sf_sequence_shape(sf_sequence sequence, sf_shape* out);
+/* The data pointer and byte strides (owned or borrowed memory). */
+SF_API sf_status sf_sequence_data(sf_sequence sequence, float** data, sf_strides* strides);
+/* Copy all samples into caller memory laid out with the given byte strides. */
+SF_API sf_status sf_sequence_copy_to(sf_sequence sequence, float* dst, sf_strides dst_strides);
+
+SF_API sf_status sf_sequence_channel_name(sf_sequence sequence, int64_t channel, const char** name);
+SF_API sf_status sf_sequence_set_channel_name(sf_sequence sequence, int64_t channel, const char* name);
+/* The frame number (as on disk) of frame index i. */
+SF_API sf_status sf_sequence_frame_number(sf_sequence sequence, int64_t index, int64_t* number);
+SF_API sf_status sf_sequence_set_frame_number(sf_sequence sequence, int64_t index, int64_t number);
+
+typedef struct sf_channel_stats {
+    double min;       /* over finite samples; 0 if there are none */
+    double max;
+    double mean;
+    int64_t nan_count;
+    int64_t inf_count;
+} sf_channel_stats;
+
+SF_API sf_status sf_sequence_channel_stats(sf_sequence sequence, int64_t channel, sf_channel_stats* out);
+
+/* ---- frame patterns and files ------------------------------------------------------------- */
+
+/* Frame numbers found on disk for a pattern (name.####.exr, name.%04d.exr, name.#.exr,
+ * name.@@@.exr), ascending. Two-call idiom: with numbers == NULL, *count gets how many there
+ * are; otherwise up to capacity numbers are written and *count gets how many were written.
+ * No file found is SF_ERROR_NOT_FOUND. */
+SF_API sf_status sf_pattern_frames(const char* pattern, int64_t* numbers, size_t capacity, size_t* count);
+
+/* The file name of one frame of a pattern, written into buffer (two-call idiom with *needed,
+ * which counts the terminating NUL). */
+SF_API sf_status sf_pattern_format(const char* pattern, int64_t frame, char* buffer, size_t capacity,
+                                   size_t* needed);
+
+/* ---- reading and writing sequences -------------------------------------------------------- */
+
+typedef struct sf_read_options {
+    size_t struct_size;        /* sizeof(sf_read_options), set by sf_read_options_init */
+    const char* channels;      /* NULL/"" = every channel of every part; else a comma list of
+                                  channel names and/or layer names, e.g. "R,G,B" or
+                                  "ViewLayer.Diffuse Indirect" (a layer's channels are named by
+                                  their suffix, R, G, B) */
+    const char* frames;        /* NULL/"" = every frame found on disk; else "1-48", "1-10,12" */
+    const char* ocio_config;   /* NULL = $OCIO; used only when colour spaces are given */
+    const char* colorspace_in; /* convert from this OCIO colour space ... */
+    const char* colorspace_out;/* ... to this one after reading; both or neither */
+    sf_progress_callback progress;
+    void* progress_user;
+} sf_read_options;
+
+SF_API void sf_read_options_init(sf_read_options* options);
+
+/* Read a frame sequence. All frames must exist and have the same size and channels. */
+SF_API sf_status sf_sequence_read(const char* pattern, const sf_read_options* options, sf_sequence* out);
+
+typedef enum sf_pixel_type { SF_PIXEL_HALF = 0, SF_PIXEL_FLOAT = 1 } sf_pixel_type;
+
+typedef struct sf_write_options {
+    size_t struct_size;          /* sizeof(sf_write_options), set by sf_write_options_init */
+    sf_pixel_type pixel_type;    /* default SF_PIXEL_HALF */
+    const char* compression;     /* EXR compression: "zip" (default), "none", "piz", "dwaa", ... */
+    const char* ocio_config;     /* NULL = $OCIO */
+    const char* colorspace_in;   /* convert from this colour space ... */
+    const char* colorspace_out;  /* ... to this one before writing; both or neither */
+    int half_overflow;           /* 0 = error if a finite value exceeds half's range (65504);
+                                    1 = clamp to +-65504 */
+    sf_progress_callback progress;
+    void* progress_user;
+} sf_write_options;
+
+SF_API void sf_write_options_init(sf_write_options* options);
+
+/* Write every frame to the pattern, numbered by the sequence's frame numbers. Each frame goes
+ * to a temporary file in the same directory and is renamed into place when complete, so a
+ * failure never leaves a half-written frame. The metadata read with the sequence is kept. */
+SF_API sf_status sf_sequence_write(sf_sequence sequence, const char* pattern, const sf_write_options* options);
+
+/* ---- filters ------------------------------------------------------------------------------ */
+
+typedef struct sf_filter_s* sf_filter;
+
+typedef enum sf_param_type { SF_PARAM_INT = 0, SF_PARAM_FLOAT = 1, SF_PARAM_STRING = 2 } sf_param_type;
+
+typedef struct sf_param_info {
+    size_t struct_size;        /* set by the caller to sizeof(sf_param_info) */
+    const char* name;
+    sf_param_type type;
+    const char* default_value; /* as text */
+    const char* description;
+    double min;                /* for int and float parameters */
+    double max;
+    const char* choices;       /* for string parameters with fixed values: comma list, else "" */
+} sf_param_info;
+
+/* Names of the available filters: index 0 .. sf_filter_count() - 1. */
+SF_API int sf_filter_count(void);
+SF_API const char* sf_filter_name(int index);
+SF_API const char* sf_filter_description(const char* name);
+
+SF_API sf_status sf_filter_create(const char* name, sf_filter* out);
+SF_API sf_status sf_filter_release(sf_filter filter);
+SF_API const char* sf_filter_last_error(sf_filter filter);
+
+/* Parameters by name. An int may set a float parameter; a string parameter that accepts numbers
+ * (e.g. rank = "auto" or a count) may be set with set_int. Unknown names and out-of-range values
+ * fail with SF_ERROR_NOT_FOUND / SF_ERROR_INVALID_ARGUMENT and leave the value unchanged. */
+SF_API sf_status sf_filter_set_int(sf_filter filter, const char* name, int64_t value);
+SF_API sf_status sf_filter_set_float(sf_filter filter, const char* name, double value);
+SF_API sf_status sf_filter_set_string(sf_filter filter, const char* name, const char* value);
+SF_API sf_status sf_filter_get_int(sf_filter filter, const char* name, int64_t* value);
+SF_API sf_status sf_filter_get_float(sf_filter filter, const char* name, double* value);
+SF_API sf_status sf_filter_get_string(sf_filter filter, const char* name, const char** value);
+
+SF_API sf_status sf_filter_param_count(sf_filter filter, int* count);
+SF_API sf_status sf_filter_param_info(sf_filter filter, int index, sf_param_info* info);
+
+/* Results of the last execute, by name (e.g. "rank" chosen by rank=auto), read with
+ * sf_filter_result_*; the names are listed like parameters. */
+SF_API sf_status sf_filter_result_count(sf_filter filter, int* count);
+SF_API sf_status sf_filter_result_name(sf_filter filter, int index, const char** name);
+SF_API sf_status sf_filter_result_float(sf_filter filter, const char* name, double* value);
+SF_API sf_status sf_filter_result_string(sf_filter filter, const char* name, const char** value);
+
+SF_API sf_status sf_filter_set_progress(sf_filter filter, sf_progress_callback callback, void* user);
+
+/* Run the filter: read input, write output. The output must have the input's shape (it may
+ * wrap caller memory) and must not overlap the input unless it is the same memory with the
+ * same strides. The input's channel names, frame numbers and metadata are copied to output. */
+SF_API sf_status sf_filter_execute(sf_filter filter, sf_sequence input, sf_sequence output);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* STATFILTER_STATFILTER_H */

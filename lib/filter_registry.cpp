@@ -1,0 +1,25 @@
+#include "statfilter/filter_registry.hpp"
+
+#include "filters/builtin_filters.hpp"
+#include "statfilter/error.hpp"
+
+namespace statfilter {
+
+const std::vector<FilterEntry>& filter_registry() {
+    static const std::vector<FilterEntry> registry = {
+        {"copy", "identity: writes the input unchanged (proves the I/O path)", [] { return make_copy_filter(); }},
+    };
+    return registry;
+}
+
+const FilterEntry& find_filter(const std::string& name) {
+    for (const auto& e : filter_registry())
+        if (e.name == name) return e;
+    std::string known;
+    for (const auto& e : filter_registry()) known += (known.empty() ? "" : ", ") + e.name;
+    throw Error(Status::NotFound, "unknown filter '" + name + "' (filters: " + known + ")");
+}
+
+std::unique_ptr<Filter> create_filter(const std::string& name) { return find_filter(name).create(); }
+
+}  // namespace statfilter

@@ -1,0 +1,11 @@
+// Factories of the built-in filters, listed by the registry.
+#pragma once
+#include <memory>
+
+#include "statfilter/filter.hpp"
+
+namespace statfilter {
+
+std::unique_ptr<Filter> make_copy_filter();
+
+}  // namespace statfilter

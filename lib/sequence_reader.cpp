@@ -1,0 +1,204 @@
+// Reads a frame sequence: resolves the frames and channels once from the first file, then reads
+// every frame straight into the sequence's memory, checking each file has the same layout.
+#include <OpenImageIO/imageio.h>
+
+#include <filesystem>
+
+#include "statfilter/color_convert.hpp"
+#include "statfilter/error.hpp"
+#include "statfilter/frame_pattern.hpp"
+#include "statfilter/sequence_io.hpp"
+
+namespace statfilter {
+namespace {
+
+struct FileChannel {
+    int subimage;
+    int index;  // within the subimage
+    std::string name;
+};
+
+// A selected channel and the name it takes in the sequence.
+struct Selected {
+    FileChannel source;
+    std::string name;
+};
+
+struct FileLayout {
+    int width = 0, height = 0;
+    std::vector<FileChannel> channels;
+    std::vector<OIIO::ImageSpec> specs;  // one per subimage
+};
+
+std::unique_ptr<OIIO::ImageInput> open_image(const std::string& path) {
+    std::error_code ec;
+    if (!std::filesystem::exists(path, ec)) throw Error(Status::NotFound, "missing frame: '" + path + "' does not exist");
+    auto in = OIIO::ImageInput::open(path);
+    if (!in) {
+        std::string why = OIIO::geterror();
+        throw Error(Status::Io, "cannot read '" + path + "': " + (why.empty() ? "not a readable image" : why));
+    }
+    return in;
+}
+
+FileLayout read_layout(OIIO::ImageInput& in, const std::string& path) {
+    FileLayout layout;
+    for (int s = 0; in.seek_subimage(s, 0); ++s) {
+        const OIIO::ImageSpec& spec = in.spec();
+        if (s == 0) {
+            layout.width = spec.width;
+            layout.height = spec.height;
+        }
+        for (int c = 0; c < spec.nchannels; ++c)
+            layout.channels.push_back({s, c, spec.channel_name(c)});
+        layout.specs.push_back(spec);
+    }
+    if (layout.specs.empty()) throw Error(Status::Io, "cannot read '" + path + "': no image in file");
+    return layout;
+}
+
+std::vector<std::string> split_list(const std::string& text) {
+    std::vector<std::string> out;
+    size_t start = 0;
+    while (start <= text.size()) {
+        size_t comma = text.find(',', start);
+        if (comma == std::string::npos) comma = text.size();
+        std::string item = text.substr(start, comma - start);
+        const size_t b = item.find_first_not_of(' '), e = item.find_last_not_of(' ');
+        if (b != std::string::npos) out.push_back(item.substr(b, e - b + 1));
+        start = comma + 1;
+    }
+    return out;
+}
+
+std::vector<Selected> select_channels(const FileLayout& layout, const std::string& request, const std::string& path) {
+    std::vector<Selected> out;
+    if (request.empty()) {
+        for (const auto& ch : layout.channels) out.push_back({ch, ch.name});
+        return out;
+    }
+    for (const std::string& item : split_list(request)) {
+        bool found = false;
+        for (const auto& ch : layout.channels)
+            if (ch.name == item) {
+                out.push_back({ch, ch.name});
+                found = true;
+                break;
+            }
+        if (found) continue;
+        const std::string prefix = item + ".";
+        for (const auto& ch : layout.channels)
+            if (ch.name.compare(0, prefix.size(), prefix) == 0 && ch.name.size() > prefix.size()) {
+                out.push_back({ch, ch.name.substr(prefix.size())});
+                found = true;
+            }
+        if (!found) {
+            std::string available;
+            for (const auto& ch : layout.channels) available += (available.empty() ? "" : ", ") + ch.name;
+            throw Error(Status::NotFound,
+                        "no channel or layer '" + item + "' in '" + path + "' (channels: " + available + ")");
+        }
+    }
+    return out;
+}
+
+std::vector<int64_t> resolve_frames(const FramePattern& pattern, const std::string& spec) {
+    if (!spec.empty()) {
+        if (!pattern.has_frame_token() && spec != "1")
+            throw Error(Status::InvalidArgument, "pattern '" + pattern.text() + "' has no frame token (#, @ or %0Nd)");
+        return parse_frame_spec(spec);
+    }
+    std::vector<int64_t> frames = pattern.scan();
+    if (frames.empty()) throw Error(Status::NotFound, "no files match '" + pattern.text() + "'");
+    const int64_t expected = frames.back() - frames.front() + 1;
+    if (static_cast<int64_t>(frames.size()) != expected) {
+        std::vector<int64_t> missing;
+        size_t i = 0;
+        for (int64_t f = frames.front(); f <= frames.back(); ++f) {
+            if (i < frames.size() && frames[i] == f) {
+                ++i;
+            } else {
+                missing.push_back(f);
+            }
+        }
+        throw Error(Status::NotFound, "gap in sequence '" + pattern.text() + "': frames " +
+                                          format_frame_list(missing) + " are missing (found " +
+                                          format_frame_list(frames) + "); choose frames explicitly to skip them");
+    }
+    return frames;
+}
+
+OIIO::ParamValueList frame_metadata(const OIIO::ImageSpec& spec) {
+    OIIO::ParamValueList out;
+    for (const auto& p : spec.extra_attribs) {
+        const std::string name = p.name().string();
+        // Format bookkeeping that the writer sets itself.
+        if (name.rfind("oiio:", 0) == 0 || name == "openexr:chunkCount" || name == "compression") continue;
+        out.push_back(p);
+    }
+    return out;
+}
+
+void read_frame(const std::string& path, const std::vector<Selected>& selection, Sequence& seq, int64_t f) {
+    auto in = open_image(path);
+    const FileLayout layout = read_layout(*in, path);
+    const Shape& shape = seq.shape();
+    for (const Selected& sel : selection) {
+        const auto s = static_cast<size_t>(sel.source.subimage);
+        if (s >= layout.specs.size() || layout.specs[s].nchannels <= sel.source.index ||
+            layout.specs[s].channel_name(sel.source.index) != sel.source.name)
+            throw Error(Status::NotFound, "'" + path + "' lacks channel '" + sel.source.name + "' found in the first frame");
+        const OIIO::ImageSpec& spec = layout.specs[s];
+        if (spec.width != shape.width || spec.height != shape.height)
+            throw Error(Status::InvalidArgument, "'" + path + "' is " + std::to_string(spec.width) + " x " +
+                                                     std::to_string(spec.height) + ", the first frame is " +
+                                                     std::to_string(shape.width) + " x " + std::to_string(shape.height));
+    }
+    const Strides& st = seq.strides();
+    for (size_t c = 0; c < selection.size(); ++c) {
+        const FileChannel& src = selection[c].source;
+        float* dst = &seq.at(f, 0, 0, static_cast<int64_t>(c));
+        if (!in->read_image(src.subimage, 0, src.index, src.index + 1, OIIO::TypeDesc::FLOAT, dst, st.pixel, st.row,
+                            OIIO::AutoStride)) {
+            std::string why = in->geterror();
+            throw Error(Status::Io, "cannot read '" + path + "': " + (why.empty() ? "read failed" : why));
+        }
+    }
+    seq.metadata()[f] = frame_metadata(layout.specs[selection.front().source.subimage]);
+}
+
+}  // namespace
+
+std::unique_ptr<Sequence> read_sequence(const std::string& pattern_text, const ReadOptions& options) {
+    const FramePattern pattern(pattern_text);
+    const std::vector<int64_t> frames = resolve_frames(pattern, options.frames);
+
+    const std::string first_path = pattern.format(frames.front());
+    FileLayout first;
+    {
+        auto in = open_image(first_path);
+        first = read_layout(*in, first_path);
+    }
+    const std::vector<Selected> selection = select_channels(first, options.channels, first_path);
+    Shape shape;
+    shape.frames = static_cast<int64_t>(frames.size());
+    shape.width = first.specs[selection.front().source.subimage].width;
+    shape.height = first.specs[selection.front().source.subimage].height;
+    shape.channels = static_cast<int64_t>(selection.size());
+    validate_shape(shape);
+    check_color_conversion(options.color, shape.channels);
+
+    auto seq = std::make_unique<Sequence>(shape);
+    for (size_t c = 0; c < selection.size(); ++c) seq->channel_names()[c] = selection[c].name;
+    for (int64_t f = 0; f < shape.frames; ++f) {
+        options.progress.report(static_cast<double>(f) / shape.frames, "read");
+        seq->frame_numbers()[f] = frames[f];
+        read_frame(pattern.format(frames[f]), selection, *seq, f);
+        if (options.color.active())
+            convert_colors(&seq->at(f, 0, 0, 0), shape.width, shape.height, shape.channels, options.color);
+    }
+    options.progress.report(1.0, "read");
+    return seq;
+}
+
+}  // namespace statfilter
