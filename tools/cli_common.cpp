@@ -1,0 +1,104 @@
+#include "cli_common.hpp"
+
+namespace statfilter_cli {
+
+void check(sf_status status) {
+    if (status != SF_OK) throw Failure(sf_last_error());
+}
+
+sf_shape SequenceHandle::shape() const {
+    sf_shape s{};
+    statfilter_cli::check(sf_sequence_shape(handle_, &s));
+    return s;
+}
+
+std::string SequenceHandle::channel_name(int64_t c) const {
+    const char* name = nullptr;
+    statfilter_cli::check(sf_sequence_channel_name(handle_, c, &name));
+    return name;
+}
+
+FilterHandle::FilterHandle(const std::string& name) { statfilter_cli::check(sf_filter_create(name.c_str(), &handle_)); }
+
+void FilterHandle::check(sf_status status) const {
+    if (status != SF_OK) throw Failure(sf_filter_last_error(handle_));
+}
+
+const std::set<std::string> kInputOptions = {"channels", "frames", "ocio", "in-colorspace", "working-colorspace"};
+const std::set<std::string> kOutputOptions = {"compression", "out-colorspace"};
+
+const char* const kInputHelp =
+    "input:\n"
+    "  --channels LIST         channels and/or layers, e.g. R,G,B or \"ViewLayer.Diffuse Indirect\"\n"
+    "                          (default: every channel of every part)\n"
+    "  --frames SPEC           frames to use, e.g. 1-48 or 1-10,12 (default: all on disk, no gaps)\n"
+    "  --ocio CONFIG           OpenColorIO config (default: $OCIO)\n"
+    "  --in-colorspace NAME    colour space of the input files ...\n"
+    "  --working-colorspace NAME  ... converted to this one for filtering\n";
+
+const char* const kOutputHelp =
+    "output:\n"
+    "  --float                 write 32-bit float (default: half)\n"
+    "  --clamp-half            clamp values beyond half's range instead of failing\n"
+    "  --compression NAME      EXR compression: zip (default), none, piz, dwaa, ...\n"
+    "  --out-colorspace NAME   convert from the working space to this one on write\n"
+    "                          (default: --in-colorspace)\n";
+
+static const char* nullable(const std::string& s) { return s.empty() ? nullptr : s.c_str(); }
+
+void read_input(const Args& args, const std::string& pattern, ProgressLine& progress, SequenceHandle& out) {
+    const std::string channels = args.option("channels"), frames = args.option("frames"), ocio = args.option("ocio"),
+                      in_cs = args.option("in-colorspace"), work_cs = args.option("working-colorspace");
+    sf_read_options o;
+    sf_read_options_init(&o);
+    o.channels = nullable(channels);
+    o.frames = nullable(frames);
+    o.ocio_config = nullable(ocio);
+    if (!work_cs.empty()) {
+        o.colorspace_in = nullable(in_cs);
+        o.colorspace_out = nullable(work_cs);
+    }
+    o.progress = &ProgressLine::callback;
+    o.progress_user = &progress;
+    check(sf_sequence_read(pattern.c_str(), &o, out.out()));
+}
+
+void write_output(const Args& args, const SequenceHandle& seq, const std::string& pattern, ProgressLine& progress) {
+    const std::string compression = args.option("compression", "zip"), ocio = args.option("ocio"),
+                      work_cs = args.option("working-colorspace"),
+                      out_cs = args.option("out-colorspace", args.option("in-colorspace"));
+    sf_write_options o;
+    sf_write_options_init(&o);
+    o.pixel_type = args.flag("float") ? SF_PIXEL_FLOAT : SF_PIXEL_HALF;
+    o.half_overflow = args.flag("clamp-half") ? 1 : 0;
+    o.compression = compression.c_str();
+    o.ocio_config = nullable(ocio);
+    if (!work_cs.empty()) {
+        o.colorspace_in = nullable(work_cs);
+        o.colorspace_out = nullable(out_cs);
+    }
+    o.progress = &ProgressLine::callback;
+    o.progress_user = &progress;
+    check(sf_sequence_write(seq.get(), pattern.c_str(), &o));
+}
+
+std::set<std::string> merged(std::initializer_list<std::set<std::string>> sets) {
+    std::set<std::string> out;
+    for (const auto& s : sets) out.insert(s.begin(), s.end());
+    return out;
+}
+
+std::string frame_list_text(const std::vector<int64_t>& frames) {
+    std::string out;
+    for (size_t i = 0; i < frames.size();) {
+        size_t j = i;
+        while (j + 1 < frames.size() && frames[j + 1] == frames[j] + 1) ++j;
+        if (!out.empty()) out += ",";
+        out += std::to_string(frames[i]);
+        if (j > i) out += "-" + std::to_string(frames[j]);
+        i = j + 1;
+    }
+    return out;
+}
+
+}  // namespace statfilter_cli

@@ -1,0 +1,64 @@
+// What the subcommands share: RAII over C ABI handles, status checks, and the input/output options.
+#pragma once
+#include <set>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include <statfilter/statfilter.h>
+
+#include "cli_args.hpp"
+#include "cli_progress.hpp"
+
+namespace statfilter_cli {
+
+// A failure of the library, carrying its message.
+struct Failure : std::runtime_error {
+    using std::runtime_error::runtime_error;
+};
+
+// Throws Failure with sf_last_error() unless status is SF_OK.
+void check(sf_status status);
+
+class SequenceHandle {
+public:
+    SequenceHandle() = default;
+    ~SequenceHandle() { sf_sequence_release(handle_); }
+    SequenceHandle(const SequenceHandle&) = delete;
+    SequenceHandle& operator=(const SequenceHandle&) = delete;
+    sf_sequence* out() { return &handle_; }
+    sf_sequence get() const { return handle_; }
+    sf_shape shape() const;
+    std::string channel_name(int64_t c) const;
+
+private:
+    sf_sequence handle_ = nullptr;
+};
+
+class FilterHandle {
+public:
+    explicit FilterHandle(const std::string& name);
+    ~FilterHandle() { sf_filter_release(handle_); }
+    FilterHandle(const FilterHandle&) = delete;
+    FilterHandle& operator=(const FilterHandle&) = delete;
+    sf_filter get() const { return handle_; }
+    void check(sf_status status) const;  // uses the filter's own message
+
+private:
+    sf_filter handle_ = nullptr;
+};
+
+// Options read by every command that reads a sequence.
+extern const std::set<std::string> kInputOptions;
+// Options read by every command that writes a sequence.
+extern const std::set<std::string> kOutputOptions;
+extern const char* const kInputHelp;
+extern const char* const kOutputHelp;
+
+void read_input(const Args& args, const std::string& pattern, ProgressLine& progress, SequenceHandle& out);
+void write_output(const Args& args, const SequenceHandle& seq, const std::string& pattern, ProgressLine& progress);
+
+std::set<std::string> merged(std::initializer_list<std::set<std::string>> sets);
+std::string frame_list_text(const std::vector<int64_t>& frames);
+
+}  // namespace statfilter_cli

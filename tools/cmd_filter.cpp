@@ -1,0 +1,120 @@
+// statfilter copy|denoise IN OUT: read a sequence, run a filter over it, write the result.
+#include <chrono>
+#include <cstdio>
+
+#include "cli_common.hpp"
+#include "cli_json.hpp"
+#include "commands.hpp"
+
+namespace statfilter_cli {
+namespace {
+
+const char* type_name(sf_param_type t) {
+    switch (t) {
+    case SF_PARAM_INT: return "int";
+    case SF_PARAM_FLOAT: return "float";
+    case SF_PARAM_STRING: return "text";
+    }
+    return "?";
+}
+
+// The parameter table of a filter, from the library itself.
+void print_parameters(const std::string& name) {
+    FilterHandle filter(name);
+    int count = 0;
+    filter.check(sf_filter_param_count(filter.get(), &count));
+    const char* description = sf_filter_description(name.c_str());
+    std::printf("  %s: %s\n", name.c_str(), description ? description : "");
+    for (int i = 0; i < count; ++i) {
+        sf_param_info info;
+        info.struct_size = sizeof info;
+        filter.check(sf_filter_param_info(filter.get(), i, &info));
+        std::string detail = type_name(info.type);
+        if (info.choices && *info.choices) detail += ": " + std::string(info.choices);
+        std::printf("    --%-20s %s (%s; default %s)\n", info.name, info.description, detail.c_str(),
+                    info.default_value);
+    }
+}
+
+std::string dashes_to_underscores(std::string s) {
+    for (char& c : s)
+        if (c == '-') c = '_';
+    return s;
+}
+
+int run_filter(const Args& args, const std::string& method) {
+    if (args.positionals().size() != 2) throw UsageError("expected IN and OUT patterns (see --help)");
+    const std::string in = args.positionals()[0], out = args.positionals()[1];
+    FilterHandle filter(method);
+    // Every --name VALUE that is not a common option is a parameter of the filter.
+    for (const auto& [name, value] : args.extras())
+        filter.check(sf_filter_set_string(filter.get(), dashes_to_underscores(name).c_str(), value.c_str()));
+
+    const auto start = std::chrono::steady_clock::now();
+    ProgressLine progress(args.flag("quiet"));
+    SequenceHandle input, output;
+    read_input(args, in, progress, input);
+    check(sf_sequence_create(input.shape(), output.out()));
+    filter.check(sf_filter_set_progress(filter.get(), &ProgressLine::callback, &progress));
+    filter.check(sf_filter_execute(filter.get(), input.get(), output.get()));
+    write_output(args, output, out, progress);
+    progress.finish();
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+
+    int result_count = 0;
+    filter.check(sf_filter_result_count(filter.get(), &result_count));
+    std::vector<std::pair<std::string, std::string>> results;
+    for (int i = 0; i < result_count; ++i) {
+        const char *name = nullptr, *value = nullptr;
+        filter.check(sf_filter_result_name(filter.get(), i, &name));
+        filter.check(sf_filter_result_string(filter.get(), name, &value));
+        results.emplace_back(name, value);
+    }
+    const sf_shape shape = input.shape();
+    if (args.flag("json")) {
+        std::string j = "{\n  \"input\": " + json_string(in) + ",\n  \"output\": " + json_string(out) +
+                        ",\n  \"method\": " + json_string(method) + ",\n  \"frames\": " + std::to_string(shape.frames) +
+                        ",\n  \"width\": " + std::to_string(shape.width) + ",\n  \"height\": " +
+                        std::to_string(shape.height) + ",\n  \"channels\": " + std::to_string(shape.channels) +
+                        ",\n  \"seconds\": " + json_number(seconds) + ",\n  \"results\": {";
+        for (size_t i = 0; i < results.size(); ++i)
+            j += (i ? ", " : "") + json_string(results[i].first) + ": " + json_string(results[i].second);
+        j += "}\n}\n";
+        std::fputs(j.c_str(), stdout);
+    } else if (!args.flag("quiet")) {
+        std::fprintf(stderr, "statfilter: %s: %lld frames of %lld x %lld in %.2f s", method.c_str(),
+                     static_cast<long long>(shape.frames), static_cast<long long>(shape.width),
+                     static_cast<long long>(shape.height), seconds);
+        for (const auto& [name, value] : results) std::fprintf(stderr, ", %s %s", name.c_str(), value.c_str());
+        std::fprintf(stderr, "\n");
+    }
+    return 0;
+}
+
+const std::set<std::string> kFlags = {"float", "clamp-half", "json", "quiet", "help"};
+
+}  // namespace
+
+int cmd_copy(int argc, char** argv) {
+    const Args args(argc, argv, 2, kFlags, merged({kInputOptions, kOutputOptions}));
+    if (args.flag("help")) {
+        std::printf("usage: statfilter copy IN OUT [options]\n\nReads a sequence and writes it unchanged through the "
+                    "filter path (bit-exact with --float).\n\n%s\n%s  --json, --quiet\n", kInputHelp, kOutputHelp);
+        return 0;
+    }
+    return run_filter(args, "copy");
+}
+
+int cmd_denoise(int argc, char** argv) {
+    const Args args(argc, argv, 2, kFlags, merged({kInputOptions, kOutputOptions, {"method"}}));
+    if (args.flag("help")) {
+        std::printf("usage: statfilter denoise IN OUT [--method NAME] [--PARAM VALUE ...] [options]\n\n"
+                    "Filters a frame sequence. Methods and their parameters (from the library):\n");
+        for (int i = 0; i < sf_filter_count(); ++i) print_parameters(sf_filter_name(i));
+        std::printf("\n%s\n%s  --json                  report on stdout\n  --quiet, -q\n", kInputHelp, kOutputHelp);
+        return 0;
+    }
+    return run_filter(args, args.option("method", kDefaultMethod));
+}
+
+}  // namespace statfilter_cli

@@ -1,0 +1,55 @@
+// statfilter: the command-line tool. Built on the public C header only.
+#include <cstdio>
+#include <cstring>
+#include <exception>
+
+#include <statfilter/statfilter.h>
+
+#include "cli_common.hpp"
+#include "commands.hpp"
+
+namespace {
+
+const char* const kUsage =
+    "usage: statfilter COMMAND [options]\n"
+    "\n"
+    "Statistical temporal filtering of rendered indirect illumination.\n"
+    "\n"
+    "commands:\n"
+    "  info PATTERN        frames, size, channels, layers and statistics of a sequence\n"
+    "  copy IN OUT         read and write a sequence unchanged (checks the whole path)\n"
+    "  denoise IN OUT      filter a sequence (--method, parameters: statfilter denoise --help)\n"
+    "  version             print the library version\n"
+    "\n"
+    "Patterns follow oiiotool: beauty.####.exr, beauty.#.exr (4 digits), beauty.@@.exr,\n"
+    "beauty.%04d.exr. Run 'statfilter COMMAND --help' for a command's options.\n";
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    using namespace statfilter_cli;
+    if (argc < 2 || !std::strcmp(argv[1], "--help") || !std::strcmp(argv[1], "-h") || !std::strcmp(argv[1], "help")) {
+        std::fputs(kUsage, argc < 2 ? stderr : stdout);
+        return argc < 2 ? 2 : 0;
+    }
+    const std::string command = argv[1];
+    try {
+        if (command == "info") return cmd_info(argc, argv);
+        if (command == "copy") return cmd_copy(argc, argv);
+        if (command == "denoise") return cmd_denoise(argc, argv);
+        if (command == "version" || command == "--version") {
+            std::printf("statfilter %s\n", sf_version_string());
+            return 0;
+        }
+        throw UsageError("unknown command '" + command + "'");
+    } catch (const UsageError& e) {
+        std::fprintf(stderr, "statfilter %s: %s\n", command.c_str(), e.what());
+        return 2;
+    } catch (const Failure& e) {
+        std::fprintf(stderr, "statfilter %s: error: %s\n", command.c_str(), e.what());
+        return 1;
+    } catch (const std::exception& e) {
+        std::fprintf(stderr, "statfilter %s: error: %s\n", command.c_str(), e.what());
+        return 1;
+    }
+}
