@@ -1,0 +1,110 @@
+import json
+import os
+import subprocess
+
+import pytest
+
+from conftest import SHARED, oiio_tool, run
+
+
+def test_help_and_usage_errors():
+    assert "info PATTERN" in run("--help").stdout
+    assert run(check_rc=2).stderr.startswith("usage:")
+    bad = run("frobnicate", check_rc=2)
+    assert "unknown command 'frobnicate'" in bad.stderr
+    assert "--frames" in run("info", "--help").stdout
+    assert "copy" in run("denoise", "--help").stdout
+    assert "needs a value" in run("info", "x.####.exr", "--frames", check_rc=2).stderr
+
+
+def test_info_on_shipped_sample(sample_noisy):
+    out = run("info", sample_noisy, "-q").stdout
+    assert "32 (1-32)" in out and "160 x 120" in out
+    report = json.loads(run("info", sample_noisy, "--json").stdout)
+    assert report["frame_count"] == 32 and report["width"] == 160 and report["height"] == 120
+    assert [c["name"] for c in report["channels"]] == ["R", "G", "B"]
+    for c in report["channels"]:
+        assert c["nan"] == 0 and c["inf"] == 0 and 0 <= c["min"] <= c["mean"] <= c["max"]
+
+
+def test_copy_float_is_bit_exact_and_keeps_metadata(small_sequence, tmp_path):
+    out = tmp_path / "out"
+    out.mkdir()
+    run("copy", small_sequence / "noisy.####.exr", out / "copy.####.exr", "--float", "-q")
+    assert sorted(p.name for p in out.iterdir()) == [f"copy.{f:04d}.exr" for f in range(1, 5)]
+    idiff = oiio_tool("idiff")
+    for f in range(1, 5):
+        a, b = small_sequence / f"noisy.{f:04d}.exr", out / f"copy.{f:04d}.exr"
+        assert subprocess.run([idiff, "-fail", "0", "-warn", "0", str(a), str(b)], capture_output=True).returncode == 0
+    info = subprocess.run([oiio_tool("oiiotool"), "--info", "-v", str(out / "copy.0001.exr")],
+                          capture_output=True, text=True).stdout
+    assert "float" in info and 'colorInteropID: "lin_rec709_scene"' in info
+
+
+def test_frames_option_and_progress(small_sequence, tmp_path):
+    proc = run("copy", small_sequence / "noisy.%04d.exr", tmp_path / "o.#.exr", "--frames", "2-3")
+    assert sorted(p.name for p in tmp_path.glob("o.*.exr")) == ["o.0002.exr", "o.0003.exr"]
+    assert "statfilter: read" in proc.stderr and "statfilter: write" in proc.stderr
+    assert run("copy", small_sequence / "noisy.####.exr", tmp_path / "q.####.exr", "--quiet").stderr == ""
+
+
+def test_gap_is_reported_by_info_and_refused_by_copy(small_sequence, tmp_path):
+    os.remove(small_sequence / "noisy.0003.exr")
+    report = json.loads(run("info", small_sequence / "noisy.####.exr", "--json").stdout)
+    assert report["missing_frames"] == "3" and report["frame_count"] == 3
+    out = tmp_path / "out"
+    out.mkdir()
+    proc = run("copy", small_sequence / "noisy.####.exr", out / "c.####.exr", check_rc=1)
+    assert "frames 3 are missing" in proc.stderr
+    assert list(out.iterdir()) == []
+
+
+def test_unwritable_output_directory(small_sequence, tmp_path):
+    proc = run("copy", small_sequence / "noisy.####.exr", tmp_path / "nope" / "c.####.exr", check_rc=1)
+    assert "does not exist" in proc.stderr and "nope" in proc.stderr
+
+
+def test_truncated_and_non_image_files_are_named(small_sequence, tmp_path):
+    victim = small_sequence / "noisy.0002.exr"
+    data = victim.read_bytes()
+    victim.write_bytes(data[: len(data) // 2])
+    out = tmp_path / "out"
+    out.mkdir()
+    proc = run("copy", small_sequence / "noisy.####.exr", out / "c.####.exr", check_rc=1)
+    assert "noisy.0002.exr" in proc.stderr
+    assert list(out.iterdir()) == []
+    victim.write_text("not an image")
+    assert "noisy.0002.exr" in run("info", small_sequence / "noisy.####.exr", check_rc=1).stderr
+
+
+def test_missing_channel_and_no_frames(small_sequence, tmp_path):
+    proc = run("info", small_sequence / "noisy.####.exr", "--channels", "Z", check_rc=1)
+    assert "no channel or layer 'Z'" in proc.stderr and "R, G, B" in proc.stderr
+    assert "no files match" in run("info", tmp_path / "none.####.exr", check_rc=1).stderr
+
+
+def test_unknown_method_and_parameter(small_sequence, tmp_path):
+    proc = run("denoise", small_sequence / "noisy.####.exr", tmp_path / "d.####.exr", "--method", "nope", check_rc=1)
+    assert "unknown filter 'nope'" in proc.stderr
+    proc = run("denoise", small_sequence / "noisy.####.exr", tmp_path / "d.####.exr", "--method", "copy",
+               "--bogus", "3", check_rc=1)
+    assert "unknown parameter 'bogus'" in proc.stderr
+
+
+def test_denoise_json_report(small_sequence, tmp_path):
+    report = json.loads(run("denoise", small_sequence / "noisy.####.exr", tmp_path / "d.####.exr", "--method",
+                            "copy", "--json").stdout)
+    assert report["frames"] == 4 and report["method"] == "copy" and report["seconds"] >= 0
+
+
+@pytest.mark.skipif(not (SHARED / "raw").is_dir(), reason="real multi-part renders not present")
+def test_blender_multipart_layer(tmp_path):
+    raw = SHARED / "raw" / "cornell_moving_spp0016" / "frame.####.exr"
+    report = json.loads(run("info", raw, "--json").stdout)
+    assert "ViewLayer.Diffuse Indirect" in report["layers"]
+    run("copy", raw, tmp_path / "ind.####.exr", "--channels", "ViewLayer.Diffuse Indirect", "--float", "-q")
+    layer = json.loads(run("info", tmp_path / "ind.####.exr", "--json").stdout)
+    assert [c["name"] for c in layer["channels"]] == ["R", "G", "B"]
+    full = {c["name"]: c for c in report["channels"]}
+    for c in layer["channels"]:
+        assert c["mean"] == pytest.approx(full["ViewLayer.Diffuse Indirect." + c["name"]]["mean"], rel=1e-6)

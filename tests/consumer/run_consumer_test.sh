@@ -1,0 +1,18 @@
+#!/usr/bin/env bash
+# Installs the built statfilter into a temporary prefix, then builds and runs a C program against it
+# twice: through find_package(statfilter) and through pkg-config.
+set -euo pipefail
+build_dir="$1"; source_dir="$2"
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+cmake --install "$build_dir" --prefix "$work/prefix" >/dev/null
+libdir=$(ls -d "$work"/prefix/lib*/ | head -n1)
+export LD_LIBRARY_PATH="$libdir${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH}"
+
+cmake -S "$source_dir/project" -B "$work/cmake-build" -DCMAKE_PREFIX_PATH="$work/prefix" >/dev/null
+cmake --build "$work/cmake-build" >/dev/null
+"$work/cmake-build/consumer"
+
+export PKG_CONFIG_PATH="$libdir/pkgconfig"
+cc ${CFLAGS:-} -o "$work/consumer-pc" "$source_dir/project/consumer.c" $(pkg-config --cflags --libs statfilter) ${LDFLAGS:-}
+"$work/consumer-pc"
