@@ -75,19 +75,22 @@ sf_status sf_filter_set_string(sf_filter filter, const char* name, const char* v
 
 sf_status sf_filter_get_int(sf_filter filter, const char* name, int64_t* value) {
     return on_filter(filter, [&](sf_filter_s& f) {
-        require(value, "value") = f.filter->params().get_int(require_string(name, "name"));
+        int64_t& out = require(value, "value");  // NULL checks before the lookup can fail
+        out = f.filter->params().get_int(require_string(name, "name"));
     });
 }
 
 sf_status sf_filter_get_float(sf_filter filter, const char* name, double* value) {
     return on_filter(filter, [&](sf_filter_s& f) {
-        require(value, "value") = f.filter->params().get_float(require_string(name, "name"));
+        double& out = require(value, "value");
+        out = f.filter->params().get_float(require_string(name, "name"));
     });
 }
 
 sf_status sf_filter_get_string(sf_filter filter, const char* name, const char** value) {
     return on_filter(filter, [&](sf_filter_s& f) {
-        require(value, "value") = f.filter->params().get_string(require_string(name, "name")).c_str();
+        const char*& out = require(value, "value");
+        out = f.filter->params().get_string(require_string(name, "name")).c_str();
     });
 }
 
@@ -130,22 +133,25 @@ sf_status sf_filter_result_count(sf_filter filter, int* count) {
 
 sf_status sf_filter_result_name(sf_filter filter, int index, const char** name) {
     return on_filter(filter, [&](sf_filter_s& f) {
+        const char*& out = require(name, "name");
         const auto& names = f.filter->results().names();
         if (index < 0 || static_cast<size_t>(index) >= names.size())
             throw Error(Status::InvalidArgument, "result index " + std::to_string(index) + " out of range");
-        require(name, "name") = names[static_cast<size_t>(index)].c_str();
+        out = names[static_cast<size_t>(index)].c_str();
     });
 }
 
 sf_status sf_filter_result_float(sf_filter filter, const char* name, double* value) {
     return on_filter(filter, [&](sf_filter_s& f) {
-        require(value, "value") = f.filter->results().get_float(require_string(name, "name"));
+        double& out = require(value, "value");
+        out = f.filter->results().get_float(require_string(name, "name"));
     });
 }
 
 sf_status sf_filter_result_string(sf_filter filter, const char* name, const char** value) {
     return on_filter(filter, [&](sf_filter_s& f) {
-        require(value, "value") = f.filter->results().get_string(require_string(name, "name")).c_str();
+        const char*& out = require(value, "value");
+        out = f.filter->results().get_string(require_string(name, "name")).c_str();
     });
 }
 

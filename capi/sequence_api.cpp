@@ -1,5 +1,8 @@
 // sf_sequence_*: creating, wrapping, inspecting and releasing sequences.
+#include <cstring>
+
 #include "api_guard.hpp"
+#include "statfilter/metrics.hpp"
 
 using namespace statfilter;
 using namespace statfilter::capi;
@@ -111,6 +114,28 @@ sf_status sf_sequence_channel_stats(sf_sequence sequence, int64_t channel, sf_ch
         require(out, "out");
         const ChannelStats st = channel_stats(seq, channel);
         *out = sf_channel_stats{st.min, st.max, st.mean, st.nan_count, st.inf_count};
+    });
+}
+
+}  // extern "C"
+
+extern "C" {
+
+void sf_comparison_init(sf_comparison* comparison) {
+    if (!comparison) return;
+    *comparison = sf_comparison{};
+    comparison->struct_size = sizeof *comparison;
+}
+
+sf_status sf_sequence_compare(sf_sequence test, sf_sequence reference, sf_comparison* out) {
+    return guarded([&] {
+        sf_comparison& dst = require(out, "out");
+        if (dst.struct_size < sizeof(size_t) || dst.struct_size > sizeof(sf_comparison))
+            throw Error(Status::InvalidArgument, "out.struct_size must be set (sf_comparison_init)");
+        const Comparison c = compare_sequences(require_sequence(test, "test"), require_sequence(reference, "reference"));
+        sf_comparison full{dst.struct_size, c.rel_mse, c.rel_mse_moving, c.rel_mse_static, c.moving_fraction,
+                           c.psnr, c.flicker, c.jitter};
+        std::memcpy(&dst, &full, dst.struct_size);
     });
 }
 

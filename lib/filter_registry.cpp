@@ -8,6 +8,8 @@ namespace statfilter {
 const std::vector<FilterEntry>& filter_registry() {
     static const std::vector<FilterEntry> registry = {
         {"copy", "identity: writes the input unchanged (proves the I/O path)", [] { return make_copy_filter(); }},
+        {"pca", "global temporal PCA: keeps the top temporal components of the whole sequence",
+         [] { return make_pca_filter(); }},
     };
     return registry;
 }

@@ -19,6 +19,7 @@ const char* const kUsage =
     "  info PATTERN        frames, size, channels, layers and statistics of a sequence\n"
     "  copy IN OUT         read and write a sequence unchanged (checks the whole path)\n"
     "  denoise IN OUT      filter a sequence (--method, parameters: statfilter denoise --help)\n"
+    "  compare TEST REF    error of a sequence against a reference (relMSE, PSNR, flicker)\n"
     "  version             print the library version\n"
     "\n"
     "Patterns follow oiiotool: beauty.####.exr, beauty.#.exr (4 digits), beauty.@@.exr,\n"
@@ -37,6 +38,7 @@ int main(int argc, char** argv) {
         if (command == "info") return cmd_info(argc, argv);
         if (command == "copy") return cmd_copy(argc, argv);
         if (command == "denoise") return cmd_denoise(argc, argv);
+        if (command == "compare") return cmd_compare(argc, argv);
         if (command == "version" || command == "--version") {
             std::printf("statfilter %s\n", sf_version_string());
             return 0;

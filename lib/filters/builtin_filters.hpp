@@ -7,5 +7,6 @@
 namespace statfilter {
 
 std::unique_ptr<Filter> make_copy_filter();
+std::unique_ptr<Filter> make_pca_filter();
 
 }  // namespace statfilter

@@ -23,3 +23,15 @@ private:
 };
 
 }  // namespace statfilter
+
+namespace statfilter {
+
+// A slice [start, start + span) of a parent's progress, for one stage of a longer job.
+struct ProgressSpan {
+    const Progress& progress;
+    double start = 0, span = 1;
+    const char* stage = "";
+    void report(double fraction) const { progress.report(start + span * fraction, stage); }
+};
+
+}  // namespace statfilter

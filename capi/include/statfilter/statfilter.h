@@ -134,6 +134,22 @@ typedef struct sf_channel_stats {
 
 SF_API sf_status sf_sequence_channel_stats(sf_sequence sequence, int64_t channel, sf_channel_stats* out);
 
+/* Error of a sequence against a reference of the same shape (the project's metrics). */
+typedef struct sf_comparison {
+    size_t struct_size;     /* set by the caller (sf_comparison_init); fields past it are not written */
+    double rel_mse;         /* mean((x - ref)^2 / (ref^2 + 0.01)) over every sample */
+    double rel_mse_moving;  /* the same inside the moving region: reference temporal std > 3x median */
+    double rel_mse_static;  /* ... and outside it */
+    double moving_fraction; /* share of pixels in the moving region */
+    double psnr;            /* dB on tonemapped values x / (1 + x) */
+    double flicker;         /* mean |(x_t - x_t-1) - (ref_t - ref_t-1)| on tonemapped values */
+    double jitter;          /* mean |x_t+1 - 2 x_t + x_t-1| of tonemapped luminance where the reference
+                               varies least (temporal std <= 1.5x median) */
+} sf_comparison;
+
+SF_API void sf_comparison_init(sf_comparison* comparison);
+SF_API sf_status sf_sequence_compare(sf_sequence test, sf_sequence reference, sf_comparison* out);
+
 /* ---- frame patterns and files ------------------------------------------------------------- */
 
 /* Frame numbers found on disk for a pattern (name.####.exr, name.%04d.exr, name.#.exr,

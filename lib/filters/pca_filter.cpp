@@ -1,0 +1,88 @@
+// Global temporal PCA: every (pixel, channel) time series is replaced by its projection onto the
+// top-k temporal components of the whole sequence, x_k = mu + V_k V_k^T (x - mu).
+#include <cblas.h>
+
+#include "filters/builtin_filters.hpp"
+#include "filters/temporal_params.hpp"
+#include "statfilter/error.hpp"
+
+namespace statfilter {
+
+void reconstruct_low_rank(const Sequence& input, Sequence& output, ChannelSelection group,
+                          const std::vector<PixelRange>& tiles, const SeriesPrep& prep, const TemporalBasis& basis,
+                          int64_t rank, const ProgressSpan& progress) {
+    const int64_t F = basis.frames;
+    std::vector<double> tile, means, coefficients;
+    for (size_t t = 0; t < tiles.size(); ++t) {
+        progress.report(static_cast<double>(t) / tiles.size());
+        const int64_t n = tiles[t].size() * group.count;
+        tile.resize(static_cast<size_t>(F * n));
+        means.resize(static_cast<size_t>(n));
+        gather_tile(input, tiles[t], group, tile.data());
+        prepare_tile(tile.data(), F, n, prep, means.data());
+        if (rank > 0) {
+            // A = V_k^T X (k x n), then X = V_k A: two thin products instead of an F x F one.
+            coefficients.resize(static_cast<size_t>(rank * n));
+            cblas_dgemm(CblasRowMajor, CblasTrans, CblasNoTrans, static_cast<int>(rank), static_cast<int>(n),
+                        static_cast<int>(F), 1.0, basis.vectors.data(), static_cast<int>(F), tile.data(),
+                        static_cast<int>(n), 0.0, coefficients.data(), static_cast<int>(n));
+            cblas_dgemm(CblasRowMajor, CblasNoTrans, CblasNoTrans, static_cast<int>(F), static_cast<int>(n),
+                        static_cast<int>(rank), 1.0, basis.vectors.data(), static_cast<int>(F), coefficients.data(),
+                        static_cast<int>(n), 0.0, tile.data(), static_cast<int>(n));
+        } else {
+            std::fill(tile.begin(), tile.end(), 0.0);
+        }
+        for (int64_t f = 0; f < F; ++f)
+            for (int64_t j = 0; j < n; ++j) tile[f * n + j] += means[j];
+        inverse_transform(prep.transform, tile.data(), tile.size());
+        scatter_tile(tile.data(), tiles[t], group, output);
+    }
+    progress.report(1.0);
+}
+
+namespace {
+
+class PcaFilter final : public Filter {
+public:
+    PcaFilter() : Filter(make_params()) {}
+
+    static std::vector<ParamSpec> make_params() {
+        std::vector<ParamSpec> p = {rank_param("auto"), energy_param()};
+        for (auto& s : temporal_common_params()) p.push_back(s);
+        return p;
+    }
+
+protected:
+    void run(const Sequence& input, Sequence& output, const Progress& progress) override {
+        const TemporalSetup setup = temporal_setup(params());
+        const int64_t repaired = check_nonfinite(input, setup.nonfinite);
+        const Shape& shape = input.shape();
+        const auto groups = basis_groups(shape, setup.shared_basis);
+        std::string ranks;
+        double noise = 0;
+        for (size_t g = 0; g < groups.size(); ++g) {
+            const double share = 1.0 / groups.size();
+            const auto tiles = make_pixel_tiles(shape, groups[g].count, setup.budget_bytes, 3);
+            const TemporalBasis basis = compute_temporal_basis(
+                input, groups[g], tiles, setup.prep, {progress, g * share, 0.5 * share, "basis"});
+            const RankChoice rank = choose_rank(params(), basis.eigenvalues, basis.series, basis.frames);
+            reconstruct_low_rank(input, output, groups[g], tiles, setup.prep, basis, rank.rank,
+                                 {progress, (g + 0.5) * share, 0.5 * share, "reconstruct"});
+            ranks += (ranks.empty() ? "" : ",") + std::to_string(rank.rank);
+            noise = std::max(noise, rank.noise_sigma);
+        }
+        if (groups.size() == 1) {
+            mutable_results().set("rank", std::stod(ranks));
+        } else {
+            mutable_results().set("rank", ranks);
+        }
+        if (params().get_string("rank") == "auto") mutable_results().set("noise_sigma", noise);
+        mutable_results().set("nonfinite_repaired", static_cast<double>(repaired));
+    }
+};
+
+}  // namespace
+
+std::unique_ptr<Filter> make_pca_filter() { return std::make_unique<PcaFilter>(); }
+
+}  // namespace statfilter

@@ -1,0 +1,21 @@
+// What to do with NaN and Inf samples: refuse the input, or repair them and count.
+#pragma once
+#include <cstdint>
+#include <string>
+
+#include "statfilter/sequence.hpp"
+
+namespace statfilter {
+
+enum class NonFinitePolicy { Error, Repair };
+
+NonFinitePolicy parse_nonfinite_policy(const std::string& name);
+
+// Error: throws Error(Numeric) naming the first NaN/Inf (frame, pixel, channel). Repair: returns the count.
+int64_t check_nonfinite(const Sequence& seq, NonFinitePolicy policy);
+
+// Replaces each series' non-finite samples (series j is tile[f * n + j] over f) by the mean of its
+// finite samples, or 0 when it has none.
+void repair_nonfinite(double* tile, int64_t frames, int64_t n);
+
+}  // namespace statfilter

@@ -1,0 +1,47 @@
+#include "statfilter/time_series_tiles.hpp"
+
+#include <algorithm>
+
+namespace statfilter {
+
+std::vector<PixelRange> make_pixel_tiles(const Shape& s, int64_t channels_per_pixel, double budget_bytes,
+                                         int buffers_per_tile) {
+    const double bytes_per_pixel = static_cast<double>(s.frames) * channels_per_pixel * sizeof(double) * buffers_per_tile;
+    // At least one image row's worth of pixels or 1024, so tiny budgets still make progress efficiently.
+    const auto fit = static_cast<int64_t>(budget_bytes / bytes_per_pixel);
+    const int64_t tile = std::max<int64_t>(std::min<int64_t>(fit, s.pixels()), std::min<int64_t>(1024, s.pixels()));
+    std::vector<PixelRange> tiles;
+    for (int64_t p = 0; p < s.pixels(); p += tile) tiles.push_back({p, std::min(p + tile, s.pixels())});
+    return tiles;
+}
+
+namespace {
+
+template <class Visit>
+void walk_tile(const Sequence& seq, PixelRange range, ChannelSelection ch, Visit&& visit) {
+    const Shape& s = seq.shape();
+    const Strides& st = seq.strides();
+    const int64_t n = range.size() * ch.count;
+    const char* base = reinterpret_cast<const char*>(seq.data());
+    for (int64_t f = 0; f < s.frames; ++f) {
+        int64_t j = f * n;
+        for (int64_t p = range.begin; p < range.end; ++p) {
+            const int64_t y = p / s.width, x = p % s.width;
+            const char* pixel = base + f * st.frame + y * st.row + x * st.pixel;
+            for (int64_t c = ch.first; c < ch.first + ch.count; ++c, ++j)
+                visit(const_cast<float*>(reinterpret_cast<const float*>(pixel + c * st.channel)), j);
+        }
+    }
+}
+
+}  // namespace
+
+void gather_tile(const Sequence& seq, PixelRange range, ChannelSelection ch, double* tile) {
+    walk_tile(seq, range, ch, [tile](float* v, int64_t j) { tile[j] = *v; });
+}
+
+void scatter_tile(const double* tile, PixelRange range, ChannelSelection ch, Sequence& seq) {
+    walk_tile(seq, range, ch, [tile](float* v, int64_t j) { *v = static_cast<float>(tile[j]); });
+}
+
+}  // namespace statfilter
