@@ -155,6 +155,18 @@ sf_status sf_filter_result_string(sf_filter filter, const char* name, const char
     });
 }
 
+sf_status sf_filter_result_sequence(sf_filter filter, const char* name, sf_sequence* out) {
+    return on_filter(filter, [&](sf_filter_s& f) {
+        sf_sequence& dst = require(out, "out");
+        dst = nullptr;
+        const auto image = f.filter->results().image(require_string(name, "name"));
+        auto copy = std::make_unique<Sequence>(image->shape());
+        copy->copy_samples_from(*image);
+        copy->copy_attributes_from(*image);
+        dst = new sf_sequence_s{std::move(copy)};
+    });
+}
+
 sf_status sf_filter_set_progress(sf_filter filter, sf_progress_callback callback, void* user) {
     return on_filter(filter, [&](sf_filter_s& f) {
         f.progress = callback;

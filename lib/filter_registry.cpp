@@ -10,6 +10,10 @@ const std::vector<FilterEntry>& filter_registry() {
         {"copy", "identity: writes the input unchanged (proves the I/O path)", [] { return make_copy_filter(); }},
         {"pca", "global temporal PCA: keeps the top temporal components of the whole sequence",
          [] { return make_pca_filter(); }},
+        {"error-threshold", "per-pixel truncation of the temporal basis by the pooled Delta(error) test",
+         [] { return make_error_threshold_filter(); }},
+        {"moving-basis", "temporal PCA over a sliding window of frames around each frame",
+         [] { return make_moving_basis_filter(); }},
     };
     return registry;
 }

@@ -6,6 +6,7 @@
 #include <cstdlib>
 
 #include "statfilter/error.hpp"
+#include "statfilter/sequence.hpp"
 
 namespace statfilter {
 namespace {
@@ -180,6 +181,17 @@ void Results::set(const std::string& name, const std::string& value) {
     ParamValue& v = values_[name];
     v.type = ParamType::String;
     v.s = value;
+}
+
+void Results::set_image(const std::string& name, std::shared_ptr<const Sequence> image) {
+    set(name, "image " + to_string(image->shape()));
+    images_[name] = std::move(image);
+}
+
+std::shared_ptr<const Sequence> Results::image(const std::string& name) const {
+    auto it = images_.find(name);
+    if (it == images_.end()) throw Error(Status::NotFound, "no image result '" + name + "'");
+    return it->second;
 }
 
 const ParamValue& Results::find(const std::string& name) const {

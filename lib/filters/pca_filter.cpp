@@ -1,44 +1,11 @@
 // Global temporal PCA: every (pixel, channel) time series is replaced by its projection onto the
 // top-k temporal components of the whole sequence, x_k = mu + V_k V_k^T (x - mu).
-#include <cblas.h>
-
 #include "filters/builtin_filters.hpp"
+#include "filters/low_rank_reconstruction.hpp"
 #include "filters/temporal_params.hpp"
 #include "statfilter/error.hpp"
 
 namespace statfilter {
-
-void reconstruct_low_rank(const Sequence& input, Sequence& output, ChannelSelection group,
-                          const std::vector<PixelRange>& tiles, const SeriesPrep& prep, const TemporalBasis& basis,
-                          int64_t rank, const ProgressSpan& progress) {
-    const int64_t F = basis.frames;
-    std::vector<double> tile, means, coefficients;
-    for (size_t t = 0; t < tiles.size(); ++t) {
-        progress.report(static_cast<double>(t) / tiles.size());
-        const int64_t n = tiles[t].size() * group.count;
-        tile.resize(static_cast<size_t>(F * n));
-        means.resize(static_cast<size_t>(n));
-        gather_tile(input, tiles[t], group, tile.data());
-        prepare_tile(tile.data(), F, n, prep, means.data());
-        if (rank > 0) {
-            // A = V_k^T X (k x n), then X = V_k A: two thin products instead of an F x F one.
-            coefficients.resize(static_cast<size_t>(rank * n));
-            cblas_dgemm(CblasRowMajor, CblasTrans, CblasNoTrans, static_cast<int>(rank), static_cast<int>(n),
-                        static_cast<int>(F), 1.0, basis.vectors.data(), static_cast<int>(F), tile.data(),
-                        static_cast<int>(n), 0.0, coefficients.data(), static_cast<int>(n));
-            cblas_dgemm(CblasRowMajor, CblasNoTrans, CblasNoTrans, static_cast<int>(F), static_cast<int>(n),
-                        static_cast<int>(rank), 1.0, basis.vectors.data(), static_cast<int>(F), coefficients.data(),
-                        static_cast<int>(n), 0.0, tile.data(), static_cast<int>(n));
-        } else {
-            std::fill(tile.begin(), tile.end(), 0.0);
-        }
-        for (int64_t f = 0; f < F; ++f)
-            for (int64_t j = 0; j < n; ++j) tile[f * n + j] += means[j];
-        inverse_transform(prep.transform, tile.data(), tile.size());
-        scatter_tile(tile.data(), tiles[t], group, output);
-    }
-    progress.report(1.0);
-}
 
 namespace {
 
@@ -66,7 +33,7 @@ protected:
             const TemporalBasis basis = compute_temporal_basis(
                 input, groups[g], tiles, setup.prep, {progress, g * share, 0.5 * share, "basis"});
             const RankChoice rank = choose_rank(params(), basis.eigenvalues, basis.series, basis.frames);
-            reconstruct_low_rank(input, output, groups[g], tiles, setup.prep, basis, rank.rank,
+            reconstruct_low_rank(input, output, groups[g], tiles, setup.prep, basis, rank.rank, nullptr,
                                  {progress, (g + 0.5) * share, 0.5 * share, "reconstruct"});
             ranks += (ranks.empty() ? "" : ",") + std::to_string(rank.rank);
             noise = std::max(noise, rank.noise_sigma);

@@ -3,6 +3,7 @@
 #include <cstdint>
 #include <limits>
 #include <map>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -54,12 +55,18 @@ private:
     std::map<std::string, ParamValue> values_;
 };
 
-// Results a filter reports after running (e.g. the rank chosen by rank=auto).
+class Sequence;
+
+// Results a filter reports after running: numbers and text (e.g. the rank chosen by rank=auto) and
+// images (e.g. a per-pixel rank map). An image result's text value describes it.
 class Results {
 public:
-    void clear() { values_.clear(); names_.clear(); }
+    void clear() { values_.clear(); names_.clear(); images_.clear(); }
     void set(const std::string& name, double value);
     void set(const std::string& name, const std::string& value);
+    void set_image(const std::string& name, std::shared_ptr<const Sequence> image);
+    // Throws Error(NotFound) unless name is an image result.
+    std::shared_ptr<const Sequence> image(const std::string& name) const;
     double get_float(const std::string& name) const;
     const std::string& get_string(const std::string& name) const;
     const std::vector<std::string>& names() const { return names_; }
@@ -68,6 +75,7 @@ private:
     const ParamValue& find(const std::string& name) const;
     std::map<std::string, ParamValue> values_;
     std::vector<std::string> names_;
+    std::map<std::string, std::shared_ptr<const Sequence>> images_;
 };
 
 std::string format_number(double value);

@@ -251,6 +251,9 @@ SF_API sf_status sf_filter_result_count(sf_filter filter, int* count);
 SF_API sf_status sf_filter_result_name(sf_filter filter, int index, const char** name);
 SF_API sf_status sf_filter_result_float(sf_filter filter, const char* name, double* value);
 SF_API sf_status sf_filter_result_string(sf_filter filter, const char* name, const char** value);
+/* An image result (e.g. "rank_map") as a new sequence the caller releases; its text value
+ * (sf_filter_result_string) reads "image" and its shape. */
+SF_API sf_status sf_filter_result_sequence(sf_filter filter, const char* name, sf_sequence* out);
 
 SF_API sf_status sf_filter_set_progress(sf_filter filter, sf_progress_callback callback, void* user);
 
