@@ -1,0 +1,246 @@
+"""Filters: created by name, configured by named parameters, run on NumPy arrays.
+
+Nothing here knows any particular filter: parameters are listed and set through the C ABI's
+named-parameter calls, so new filters and parameters need no Python change.
+"""
+
+import ctypes
+import numbers
+
+import numpy as np
+
+from . import _arrays, _capi
+from ._progress import ProgressAdapter
+from .errors import InvalidArgumentError, NotFoundError, check, error_for
+
+_TYPE_NAMES = {_capi.SF_PARAM_INT: "int", _capi.SF_PARAM_FLOAT: "float", _capi.SF_PARAM_STRING: "string"}
+
+
+def filters():
+    """The available filters as an ordered dict {name: description}."""
+    out = {}
+    for i in range(_capi.lib.sf_filter_count()):
+        name = _capi.lib.sf_filter_name(i)
+        if name is None:
+            continue
+        out[_capi.text(name)] = _capi.text(_capi.lib.sf_filter_description(name))
+    return out
+
+
+def version():
+    """The version of the loaded C library, e.g. "0.1.0"."""
+    return _capi.text(_capi.lib.sf_version_string())
+
+
+def _same_memory(a, b):
+    return (a.ctypes.data == b.ctypes.data and a.shape == b.shape and a.strides == b.strides)
+
+
+class Filter:
+    """A statfilter filter.
+
+    ``Filter(name, **params)`` creates the filter and sets each parameter with the setter that
+    matches the Python type: int (and bool, numpy integers) -> sf_filter_set_int, float ->
+    sf_filter_set_float, str -> sf_filter_set_string. Unknown filters and parameters raise
+    NotFoundError; values out of range or of the wrong kind raise InvalidArgumentError, leaving
+    the old value.
+
+    ``filter(array, out=None, progress=None)`` runs it on a (frames, height, width, channels)
+    array and returns ``out`` (a new float32 array when None). Input and output are passed to the
+    library without copies (see ``write_sequence`` for when a copy is made); ``out`` must be a
+    writeable float32 array of the input's shape and may be the input itself. After a run,
+    ``filter.results`` holds the filter's results: {name: float, str, or for image results (e.g.
+    a per-pixel rank map) a float32 array shaped (frames, height, width, channels)}.
+    """
+
+    def __init__(self, name, **params):
+        self._handle = _capi.sf_filter()
+        self.name = str(name)
+        self.results = {}
+        check(_capi.lib.sf_filter_create(_capi.encode(self.name), ctypes.byref(self._handle)))
+        try:
+            self.set(**params)
+        except BaseException:
+            self.close()
+            raise
+
+    # ---- lifetime ----------------------------------------------------------------------------
+
+    def close(self):
+        """Release the C filter (also done when the object is garbage collected)."""
+        handle, self._handle = getattr(self, "_handle", None), _capi.sf_filter()
+        if handle:
+            _capi.lib.sf_filter_release(handle)
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        self.close()
+
+    def __del__(self):
+        try:
+            self.close()
+        except Exception:
+            pass
+
+    def _live(self):
+        if not self._handle:
+            raise InvalidArgumentError("filter '%s' is closed" % self.name)
+        return self._handle
+
+    def _check(self, status):
+        check(status, self._handle)
+
+    # ---- parameters --------------------------------------------------------------------------
+
+    def set(self, **params):
+        """Set parameters by keyword; returns self."""
+        for key, value in params.items():
+            self[key] = value
+        return self
+
+    def __setitem__(self, name, value):
+        handle = self._live()
+        key = _capi.encode(name)
+        if isinstance(value, str):
+            self._check(_capi.lib.sf_filter_set_string(handle, key, _capi.encode(value)))
+        elif isinstance(value, (bool, numbers.Integral)):
+            self._check(_capi.lib.sf_filter_set_int(handle, key, int(value)))
+        elif isinstance(value, numbers.Real):
+            self._check(_capi.lib.sf_filter_set_float(handle, key, float(value)))
+        else:
+            raise TypeError("parameter '%s' takes an int, float or str, got %s" % (name, type(value).__name__))
+
+    def __getitem__(self, name):
+        return self.get(name)
+
+    def get(self, name):
+        """The current value of a parameter: int, float or str according to its type."""
+        self._live()
+        info = {p["name"]: p for p in self._param_infos()}.get(name)
+        if info is None:
+            # Let the library word the error (it lists the known parameters).
+            self._check(_capi.lib.sf_filter_get_string(self._handle, _capi.encode(name), ctypes.byref(ctypes.c_char_p())))
+            raise NotFoundError("unknown parameter '%s'" % name)
+        return self._get_typed(name, info["type"])
+
+    def _get_typed(self, name, type_name):
+        handle, key = self._live(), _capi.encode(name)
+        if type_name == "int":
+            value = ctypes.c_int64()
+            self._check(_capi.lib.sf_filter_get_int(handle, key, ctypes.byref(value)))
+            return value.value
+        if type_name == "float":
+            value = ctypes.c_double()
+            self._check(_capi.lib.sf_filter_get_float(handle, key, ctypes.byref(value)))
+            return value.value
+        value = ctypes.c_char_p()
+        self._check(_capi.lib.sf_filter_get_string(handle, key, ctypes.byref(value)))
+        return _capi.text(value.value)
+
+    def params(self):
+        """The filter's parameters as a list of dicts with keys name, type ("int", "float" or
+        "string"), default (text), description, min, max, choices (list of str) and value
+        (the current value)."""
+        out = self._param_infos()
+        for p in out:
+            p["value"] = self._get_typed(p["name"], p["type"])
+        return out
+
+    def _param_infos(self):
+        handle = self._live()
+        count = ctypes.c_int()
+        self._check(_capi.lib.sf_filter_param_count(handle, ctypes.byref(count)))
+        out = []
+        for i in range(count.value):
+            info = _capi.sf_param_info()
+            info.struct_size = ctypes.sizeof(_capi.sf_param_info)
+            self._check(_capi.lib.sf_filter_param_info(handle, i, ctypes.byref(info)))
+            choices = _capi.text(info.choices)
+            out.append({
+                "name": _capi.text(info.name),
+                "type": _TYPE_NAMES.get(info.type, str(info.type)),
+                "default": _capi.text(info.default_value),
+                "description": _capi.text(info.description),
+                "min": info.min,
+                "max": info.max,
+                "choices": [c for c in choices.split(",") if c],
+            })
+        return out
+
+    def _read_results(self):
+        handle = self._live()
+        count = ctypes.c_int()
+        self._check(_capi.lib.sf_filter_result_count(handle, ctypes.byref(count)))
+        results = {}
+        for i in range(count.value):
+            name = ctypes.c_char_p()
+            self._check(_capi.lib.sf_filter_result_name(handle, i, ctypes.byref(name)))
+            key = name.value
+            number = ctypes.c_double()
+            if _capi.lib.sf_filter_result_float(handle, key, ctypes.byref(number)) == _capi.SF_OK:
+                results[_capi.text(key)] = number.value
+                continue
+            text = ctypes.c_char_p()
+            self._check(_capi.lib.sf_filter_result_string(handle, key, ctypes.byref(text)))
+            value = _capi.text(text.value)
+            # An image result's text reads "image <shape>": fetch the image itself as an array.
+            if value.startswith("image") and _capi.has("sf_filter_result_sequence"):
+                image = _capi.sf_sequence()
+                if _capi.lib.sf_filter_result_sequence(handle, key, ctypes.byref(image)) == _capi.SF_OK:
+                    value = _arrays.adopt(image)
+            results[_capi.text(key)] = value
+        return results
+
+    # ---- running -----------------------------------------------------------------------------
+
+    def __call__(self, array, out=None, progress=None):
+        handle = self._live()
+        source = _arrays.as_input(array, "input")
+        if out is None:
+            out = np.empty(source.shape, dtype=np.float32)
+        if not isinstance(out, np.ndarray):
+            raise InvalidArgumentError("out must be a numpy array, got %s" % type(out).__name__)
+        if out.dtype != _arrays.FLOAT32:
+            raise InvalidArgumentError("out must be float32, got %s" % out.dtype)
+        if out.shape != source.shape:
+            raise InvalidArgumentError("out has shape %s, the input %s" % (out.shape, source.shape))
+        if not out.flags.writeable:
+            raise InvalidArgumentError("out is read-only")
+        # Write straight into out when the C ABI can (non-negative strides, no self-overlap);
+        # otherwise into a temporary copied into out afterwards.
+        direct = _arrays.wrappable(out) and all(s > 0 or n == 1 for s, n in zip(out.strides, out.shape))
+        target = out if direct else np.empty(out.shape, dtype=np.float32)
+        # The C ABI forbids partial overlap of input and output: copy the input then.
+        if np.may_share_memory(source, target) and not _same_memory(source, target):
+            source = source.copy()
+
+        adapter = ProgressAdapter(progress)
+        self.results = {}
+        with _arrays.WrappedSequence(source) as seq_in, _arrays.WrappedSequence(target) as seq_out:
+            if progress is not None:
+                self._check(_capi.lib.sf_filter_set_progress(handle, adapter.c_function, None))
+            try:
+                status = _capi.lib.sf_filter_execute(handle, seq_in.handle, seq_out.handle)
+                error = None
+                if status != _capi.SF_OK:
+                    message = _capi.text(_capi.lib.sf_filter_last_error(handle)) or \
+                        _capi.text(_capi.lib.sf_last_error())
+                    error = error_for(status, message)
+            finally:
+                if progress is not None:
+                    _capi.lib.sf_filter_set_progress(handle, _capi.sf_progress_callback(), None)
+        adapter.reraise()
+        if error is not None:
+            raise error
+        self.results = self._read_results()
+        if target is not out:
+            np.copyto(out, target)
+        return out
+
+    def __repr__(self):
+        if not self._handle:
+            return "<statfilter.Filter %r (closed)>" % self.name
+        args = "".join(", %s=%r" % (p["name"], p["value"]) for p in self.params())
+        return "statfilter.Filter(%r%s)" % (self.name, args)

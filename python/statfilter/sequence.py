@@ -1,0 +1,199 @@
+"""Reading and writing frame sequences (EXR) as NumPy arrays.
+
+Patterns follow oiiotool: ``beauty.####.exr``, ``beauty.%04d.exr``, ``beauty.#.exr`` (4 digits),
+``beauty.@@@.exr``. Arrays are float32, shaped (frames, height, width, channels).
+"""
+
+import ctypes
+import numbers
+import os
+from collections import namedtuple
+
+import numpy as np
+
+from . import _arrays, _capi
+from ._progress import ProgressAdapter
+from .errors import InvalidArgumentError, check
+
+#: What ``read_sequence(..., return_info=True)`` returns beside the array.
+SequenceInfo = namedtuple("SequenceInfo", ["channel_names", "frame_numbers"])
+SequenceInfo.__doc__ = ("channel_names: list of str, one per channel (a layer's channels are named "
+                        "by their suffix, e.g. R, G, B); frame_numbers: list of int, the number on "
+                        "disk of each frame, ascending.")
+
+_PIXEL_TYPES = {"half": _capi.SF_PIXEL_HALF, "float": _capi.SF_PIXEL_FLOAT}
+_HALF_OVERFLOW = {"error": 0, "clamp": 1}
+_DEFAULT_CHANNEL_NAMES = {1: ["Y"], 3: ["R", "G", "B"], 4: ["R", "G", "B", "A"]}
+
+
+def _channels_text(channels):
+    if channels is None:
+        return None
+    if isinstance(channels, (str, bytes)):
+        return _capi.encode(channels)
+    names = list(channels)
+    if not all(isinstance(n, str) for n in names):
+        raise TypeError("channels must be a string or a list of strings, got %r" % (channels,))
+    return ",".join(names).encode("utf-8")
+
+
+def _frames_text(frames):
+    if frames is None:
+        return None
+    if isinstance(frames, (str, bytes)):
+        return _capi.encode(frames)
+    if isinstance(frames, bool):
+        raise TypeError("frames must be a frame range string, an int or a list of ints")
+    if isinstance(frames, numbers.Integral):
+        return str(int(frames)).encode()
+    if isinstance(frames, range) and len(frames) > 0 and frames.step > 0:
+        last = frames[-1]
+        text = "%d-%d" % (frames.start, last) if frames.step == 1 else "%d-%dx%d" % (frames.start, last, frames.step)
+        return text.encode()
+    items = list(frames)
+    if not items or not all(isinstance(f, numbers.Integral) and not isinstance(f, bool) for f in items):
+        raise TypeError("frames must be a frame range string ('1-48', '1-10,12'), an int, or a non-empty "
+                        "list of ints, got %r" % (frames,))
+    return ",".join(str(int(f)) for f in items).encode()
+
+
+def _choice(value, table, what):
+    try:
+        return table[value]
+    except (KeyError, TypeError):
+        raise InvalidArgumentError("%s must be one of %s, got %r" % (what, ", ".join(map(repr, table)), value)) from None
+
+
+def read_sequence(pattern, channels=None, frames=None, ocio_config=None, colorspace_in=None,
+                  colorspace_out=None, progress=None, return_info=False):
+    """Read a frame sequence into a float32 array shaped (frames, height, width, channels).
+
+    pattern:   ``dir/beauty.####.exr`` (or ``%04d``, ``#``, ``@@@``); a name without a frame token
+               reads that one file as a single frame.
+    channels:  None for every channel of every part; else channel and/or layer names, as a list
+               or a comma-separated string, e.g. ``"R,G,B"`` or ``"ViewLayer.Diffuse Indirect"``
+               (a layer's channels are then named by their suffix: R, G, B).
+    frames:    None for every frame found on disk (a gap in the numbering is an error); else a
+               range string ``"1-48"``, ``"1-10,12"``, ``"1-20x2"``, an int, a range or a list of
+               ints. Frames are always returned in ascending order.
+    ocio_config, colorspace_in, colorspace_out: convert colours with OpenColorIO after reading
+               (both colour spaces or neither; ocio_config None means ``$OCIO``).
+    progress:  optional ``progress(fraction, stage)``; return False to cancel (CancelledError).
+    return_info: if true, return ``(array, SequenceInfo(channel_names, frame_numbers))``.
+
+    The array uses the memory the library read the files into (no copy); that memory is freed
+    when the array and every view of it are gone.
+
+    Raises NotFoundError (missing frame, gap, unknown channel or layer), FileError (unreadable or
+    non-image file), InvalidArgumentError (bad range, frames of different sizes), CancelledError.
+    """
+    options = _capi.sf_read_options()
+    _capi.lib.sf_read_options_init(ctypes.byref(options))
+    options.channels = _channels_text(channels)
+    options.frames = _frames_text(frames)
+    options.ocio_config = _capi.encode(ocio_config)
+    options.colorspace_in = _capi.encode(colorspace_in)
+    options.colorspace_out = _capi.encode(colorspace_out)
+    adapter = ProgressAdapter(progress)
+    if progress is not None:
+        options.progress = adapter.c_function
+
+    handle = _capi.sf_sequence()
+    status = _capi.lib.sf_sequence_read(_capi.encode_path(pattern), ctypes.byref(options), ctypes.byref(handle))
+    adapter.reraise()
+    check(status)
+    try:
+        shape = _capi.sf_shape()
+        check(_capi.lib.sf_sequence_shape(handle, ctypes.byref(shape)))
+        info = SequenceInfo(_arrays.channel_names(handle, shape.channels),
+                            _arrays.frame_numbers(handle, shape.frames))
+    except BaseException:
+        _capi.lib.sf_sequence_release(handle)
+        raise
+    array = _arrays.adopt(handle)
+    return (array, info) if return_info else array
+
+
+def write_sequence(pattern, array, pixel_type="half", compression="zip", frame_numbers=None,
+                   channel_names=None, half_overflow="error", ocio_config=None, colorspace_in=None,
+                   colorspace_out=None, progress=None):
+    """Write an array shaped (frames, height, width, channels) as one EXR file per frame.
+
+    The array is passed to the library without a copy when it is float32 with non-negative
+    strides (any view, including non-contiguous ones); other dtypes, negative strides and
+    misaligned data are converted to a contiguous float32 copy first.
+
+    pattern:       ``dir/out.####.exr``; a pattern without a frame token takes one frame only.
+    pixel_type:    "half" (default) or "float".
+    compression:   EXR compression: "zip" (default), "none", "rle", "zips", "piz", "pxr24",
+                   "b44", "b44a", "dwaa", "dwab" (optionally with a level, "dwaa:45").
+    frame_numbers: the number of each frame on disk; default 1..frames. Must be distinct.
+    channel_names: one name per channel; default R,G,B (3 channels), R,G,B,A (4), Y (1), else
+                   C0, C1, ...
+    half_overflow: "error" (default): a finite value beyond half's range (65504) raises
+                   NumericError before any file is written; "clamp": clamp to +-65504.
+    ocio_config, colorspace_in, colorspace_out: convert colours before writing (both or neither).
+    progress:      optional ``progress(fraction, stage)``; return False to cancel.
+
+    Every frame goes to a temporary file renamed into place, so a failure leaves no partial
+    frame. Returns the list of file names written.
+    """
+    a = _arrays.as_input(array, "array")
+    frames, _, _, nchannels = a.shape
+    if channel_names is None:
+        channel_names = _DEFAULT_CHANNEL_NAMES.get(nchannels)
+    elif isinstance(channel_names, str):
+        channel_names = [n.strip() for n in channel_names.split(",")]
+    if channel_names is not None:
+        channel_names = [str(n) for n in channel_names]
+        if len(channel_names) != nchannels:
+            raise InvalidArgumentError("%d channel names given for %d channels" % (len(channel_names), nchannels))
+    if frame_numbers is not None:
+        frame_numbers = [int(n) for n in np.asarray(frame_numbers).reshape(-1)]
+        if len(frame_numbers) != frames:
+            raise InvalidArgumentError("%d frame numbers given for %d frames" % (len(frame_numbers), frames))
+        if len(set(frame_numbers)) != frames:
+            raise InvalidArgumentError("frame numbers must be distinct, got %s" % frame_numbers)
+
+    options = _capi.sf_write_options()
+    _capi.lib.sf_write_options_init(ctypes.byref(options))
+    options.pixel_type = _choice(pixel_type, _PIXEL_TYPES, "pixel_type")
+    options.half_overflow = _choice(half_overflow, _HALF_OVERFLOW, "half_overflow")
+    compression_bytes = _capi.encode(compression)  # kept alive by this frame until the call returns
+    options.compression = compression_bytes
+    options.ocio_config = _capi.encode(ocio_config)
+    options.colorspace_in = _capi.encode(colorspace_in)
+    options.colorspace_out = _capi.encode(colorspace_out)
+    adapter = ProgressAdapter(progress)
+    if progress is not None:
+        options.progress = adapter.c_function
+
+    pattern_bytes = _capi.encode_path(pattern)
+    with _arrays.WrappedSequence(a) as seq:
+        _arrays.set_attributes(seq.handle, channel_names, frame_numbers)
+        numbers_written = _arrays.frame_numbers(seq.handle, frames)
+        status = _capi.lib.sf_sequence_write(seq.handle, pattern_bytes, ctypes.byref(options))
+        adapter.reraise()
+        check(status)
+    return [pattern_format(pattern, n) for n in numbers_written]
+
+
+def pattern_frames(pattern):
+    """The frame numbers found on disk for a pattern, ascending. NotFoundError if none."""
+    p = _capi.encode_path(pattern)
+    count = ctypes.c_size_t()
+    check(_capi.lib.sf_pattern_frames(p, None, 0, ctypes.byref(count)))
+    buffer = (ctypes.c_int64 * max(count.value, 1))()
+    check(_capi.lib.sf_pattern_frames(p, buffer, count.value, ctypes.byref(count)))
+    return list(buffer[:count.value])
+
+
+def pattern_format(pattern, frame):
+    """The file name of one frame of a pattern, e.g. ("a.####.exr", 7) -> "a.0007.exr"."""
+    p = _capi.encode_path(pattern)
+    needed = ctypes.c_size_t()
+    check(_capi.lib.sf_pattern_format(p, int(frame), None, 0, ctypes.byref(needed)))
+    buffer = ctypes.create_string_buffer(needed.value)
+    check(_capi.lib.sf_pattern_format(p, int(frame), buffer, needed.value, ctypes.byref(needed)))
+    name = buffer.value
+    return name if isinstance(pattern, bytes) else os.fsdecode(name)

@@ -1,0 +1,111 @@
+"""The Filter class and the listing functions, generic over whatever filters the library has."""
+
+import numpy as np
+import pytest
+
+import statfilter
+
+
+def test_version():
+    v = statfilter.version()
+    assert isinstance(v, str) and len(v.split(".")) == 3 and all(p.isdigit() for p in v.split("."))
+
+
+def test_filters_listed_with_descriptions():
+    listed = statfilter.filters()
+    assert "copy" in listed
+    assert all(isinstance(d, str) and d for d in listed.values())
+
+
+@pytest.mark.parametrize("name", sorted(statfilter.filters()))
+def test_every_filter_lists_consistent_params(name):
+    f = statfilter.Filter(name)
+    assert f.name == name
+    for p in f.params():
+        assert set(p) == {"name", "type", "default", "description", "min", "max", "choices", "value"}
+        assert p["type"] in ("int", "float", "string")
+        assert p["name"] and isinstance(p["description"], str)
+        assert p["min"] <= p["max"]
+        # A fresh filter holds its defaults, and get() agrees with params().
+        assert p["value"] == f.get(p["name"]) == f[p["name"]]
+        if p["type"] == "int":
+            assert p["value"] == int(p["default"])
+        elif p["type"] == "float":
+            assert p["value"] == pytest.approx(float(p["default"]))
+        else:
+            assert p["value"] == p["default"]
+        # Setting the default back (by its own Python type) works.
+        f[p["name"]] = p["value"]
+        for choice in p["choices"]:
+            f[p["name"]] = choice
+            assert f.get(p["name"]) == choice
+    assert repr(f).startswith("statfilter.Filter(%r" % name)
+
+
+def test_copy_filter_runs(noisy):
+    f = statfilter.Filter("copy")
+    out = f(noisy)
+    assert out.dtype == np.float32 and out.shape == noisy.shape
+    np.testing.assert_array_equal(out, noisy)
+    assert isinstance(f.results, dict)
+
+
+def test_copy_has_no_params():
+    assert statfilter.Filter("copy").params() == []
+
+
+def test_filter_close():
+    with statfilter.Filter("copy") as f:
+        pass
+    with pytest.raises(statfilter.InvalidArgumentError, match="closed"):
+        f(np.zeros((1, 1, 1, 1), np.float32))
+    f.close()  # twice is fine
+    assert "closed" in repr(f)
+
+
+def test_progress_values(noisy):
+    seen = []
+    statfilter.Filter("copy")(noisy, progress=lambda fraction, stage: seen.append((fraction, stage)))
+    fractions = [fr for fr, _ in seen]
+    assert fractions and fractions == sorted(fractions)
+    assert 0.0 <= fractions[0] and fractions[-1] == 1.0
+    assert all(isinstance(s, str) and s for _, s in seen)
+
+
+def test_error_hierarchy():
+    assert issubclass(statfilter.InvalidArgumentError, ValueError)
+    assert issubclass(statfilter.FileError, OSError)
+    assert issubclass(statfilter.NotFoundError, LookupError)
+    assert issubclass(statfilter.OutOfMemoryError, MemoryError)
+    for cls in (statfilter.InvalidArgumentError, statfilter.OutOfMemoryError, statfilter.FileError,
+                statfilter.NotFoundError, statfilter.UnsupportedError, statfilter.CancelledError,
+                statfilter.NumericError, statfilter.InternalError):
+        assert issubclass(cls, statfilter.Error)
+        e = cls("message text")
+        assert str(e) == "message text" and e.message == "message text" and e.status == cls.status
+    import pickle
+    e = pickle.loads(pickle.dumps(statfilter.NotFoundError("gone", 4)))
+    assert isinstance(e, statfilter.NotFoundError) and e.status == 4 and e.message == "gone"
+
+
+@pytest.mark.parametrize("name", sorted(statfilter.filters()))
+def test_every_filter_runs_on_arrays(name, rng):
+    """Each filter, with its defaults, takes a small noisy sequence and reports its results as
+    numbers, text or (image results) arrays."""
+    clean = np.linspace(0.2, 1.0, 16, dtype=np.float32)[:, None, None, None] * np.ones((16, 8, 10, 3), np.float32)
+    noisy = (clean + 0.05 * rng.standard_normal(clean.shape)).astype(np.float32)
+    f = statfilter.Filter(name)
+    out = f(noisy)
+    assert out.shape == noisy.shape and out.dtype == np.float32
+    assert np.isfinite(out).all()
+    for key, value in f.results.items():
+        assert isinstance(value, (float, str, np.ndarray)), key
+        if isinstance(value, str):
+            assert not value.startswith("image"), "image result %r not fetched as an array" % key
+        if isinstance(value, np.ndarray):
+            assert value.dtype == np.float32 and value.ndim == 4
+            assert value.shape[1:3] == noisy.shape[1:3]
+    # Running again gives the same output (filters are deterministic) into a given buffer.
+    again = np.empty_like(out)
+    assert f(noisy, out=again) is again
+    np.testing.assert_array_equal(again, out)
