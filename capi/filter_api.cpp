@@ -109,8 +109,8 @@ sf_status sf_filter_param_info(sf_filter filter, int index, sf_param_info* info)
         if (index < 0 || static_cast<size_t>(index) >= specs.size())
             throw Error(Status::InvalidArgument, "parameter index " + std::to_string(index) + " out of range");
         const ParamSpec& s = specs[static_cast<size_t>(index)];
-        // The choices text lives on the spec's owner: keep it alive in a per-spec cache.
-        static thread_local std::string choices;
+        // The choices text lives on the handle, one per parameter, as long as the handle does.
+        std::string& choices = f.param_choices[index];
         choices = join(s.choices);
         sf_param_info full;
         full.struct_size = out.struct_size;

@@ -101,10 +101,14 @@ sf_status sf_sequence_write(sf_sequence sequence, const char* pattern, const sf_
     return guarded([&] {
         Sequence& seq = require_sequence(sequence, "sequence");
         const sf_write_options o = read_versioned(options, sf_write_options_init);
-        if (o.pixel_type != SF_PIXEL_HALF && o.pixel_type != SF_PIXEL_FLOAT)
+        // A C caller may store any int in the enum: read it as one (an out-of-range enum load is UB in C++).
+        int pixel_type = 0;
+        static_assert(sizeof pixel_type == sizeof o.pixel_type, "sf_pixel_type is an int-sized enum");
+        std::memcpy(&pixel_type, &o.pixel_type, sizeof pixel_type);
+        if (pixel_type != SF_PIXEL_HALF && pixel_type != SF_PIXEL_FLOAT)
             throw Error(Status::InvalidArgument, "pixel_type must be SF_PIXEL_HALF or SF_PIXEL_FLOAT");
         WriteOptions wo;
-        wo.half = o.pixel_type == SF_PIXEL_HALF;
+        wo.half = pixel_type == SF_PIXEL_HALF;
         wo.compression = o.compression ? o.compression : "zip";
         wo.color = color_of(o.ocio_config, o.colorspace_in, o.colorspace_out);
         wo.clamp_half = o.half_overflow != 0;

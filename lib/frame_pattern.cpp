@@ -61,6 +61,8 @@ std::vector<int64_t> FramePattern::scan() const {
     std::error_code ec;
     for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
         const std::string name = it->path().filename().string();
+        std::error_code type_ec;
+        if (!it->is_regular_file(type_ec)) continue;  // e.g. a directory named like a frame
         if (name.size() <= stem.size() + suffix_.size()) continue;
         if (name.compare(0, stem.size(), stem) != 0) continue;
         if (name.compare(name.size() - suffix_.size(), suffix_.size(), suffix_) != 0) continue;
