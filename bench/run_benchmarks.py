@@ -1,0 +1,185 @@
+#!/usr/bin/env python3
+"""Accuracy and speed of statfilter's filters on real renders, side by side in one run.
+
+For every scene and noise level under the data folder (scene/spp*/indirect.####.exr with
+scene/ref/indirect.####.exr), each filter runs over a sweep of its parameters:
+  - compute time through the C ABI on frames in memory (the filter alone),
+  - end-to-end CLI time and peak memory (read, filter, write EXR),
+  - relMSE (overall, moving and static regions), PSNR, SSIM, flicker and still-scene jitter.
+A straightforward NumPy global PCA runs on the same frames as the yardstick, and a production-size
+sequence (frames resized to 1920x1080) measures throughput against a plain OpenImageIO read+write.
+Writes docs/benchmarks.md and PNG plots. Usage:
+    python3 bench/run_benchmarks.py [--data DIR] [--docs DIR] [--quick]
+"""
+
+import argparse
+import json
+import os
+import shutil
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+import numpy as np
+
+ROOT = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(ROOT / "build" / "python"))
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+
+import statfilter  # noqa: E402
+from ssim import ssim  # noqa: E402
+import report  # noqa: E402
+
+CLI = ROOT / "build" / "tools" / "statfilter"
+
+
+def sweeps(quick):
+    """(label, method, params) of every configuration measured."""
+    configs = [("temporal mean", "pca", {"rank": "0"})]
+    ranks = ["1", "2", "4"] if quick else ["1", "2", "3", "4", "6", "8"]
+    configs += [(f"pca rank {r}", "pca", {"rank": r}) for r in ranks]
+    for transform in ["none", "sqrt", "log"]:
+        configs.append((f"pca auto {transform}", "pca", {"rank": "auto", "transform": transform}))
+    windows = [1, 9] if quick else [1, 5, 9, 15]
+    thresholds = [2] if quick else [1.5, 2, 4]
+    for w in windows:
+        for t in thresholds:
+            configs.append((f"error-threshold w{w} t{t}", "error-threshold", {"window": str(w), "threshold": str(t)}))
+    configs.append(("error-threshold w9 t2 log", "error-threshold", {"transform": "log"}))
+    half_widths = [4, 8] if quick else [2, 4, 8]
+    for h in half_widths:
+        for weights, rank in [("reconstruction", "1"), ("uniform", "2"), ("basis", "2"), ("reconstruction", "auto")]:
+            configs.append((f"moving-basis h{h} {weights} r{rank}", "moving-basis",
+                            {"half_width": str(h), "sigma": str(h / 2), "weights": weights, "rank": rank}))
+    return configs
+
+
+def scenes(data):
+    for scene in sorted(p for p in data.iterdir() if (p / "ref").is_dir()):
+        for level in sorted(scene.glob("spp*")):
+            if any(level.glob("indirect.*.exr")):
+                yield scene.name, level.name, level / "indirect.####.exr", scene / "ref" / "indirect.####.exr"
+
+
+def run_cli(args):
+    """Runs the CLI under /usr/bin/time; returns (json report, peak RSS in MiB)."""
+    cmd = ["/usr/bin/time", "-f", "%M", str(CLI), *map(str, args), "--quiet", "--json"]
+    proc = subprocess.run(cmd, capture_output=True, text=True, check=True)
+    rss_kib = int(proc.stderr.strip().splitlines()[-1])
+    return json.loads(proc.stdout), rss_kib / 1024
+
+
+def measure(noisy, ref, output):
+    m = statfilter.compare(output, ref)
+    m["ssim"] = ssim(output, ref)
+    return m
+
+
+def timed(fn, repeats):
+    best = float("inf")
+    result = None
+    for _ in range(repeats):
+        t0 = time.perf_counter()
+        result = fn()
+        best = min(best, time.perf_counter() - t0)
+    return result, best
+
+
+def numpy_reference(noisy, work, repeats):
+    """The NumPy PCA in its own process: OPENBLAS_CORETYPE / OPENBLAS_L2_SIZE, which some machines set
+    for older OpenBLAS builds, slow a current NumPy's OpenBLAS, so they are unset for it alone."""
+    np.save(work / "in.npy", noisy)
+    env = {k: v for k, v in os.environ.items() if k not in ("OPENBLAS_CORETYPE", "OPENBLAS_L2_SIZE")}
+    proc = subprocess.run([sys.executable, str(Path(__file__).resolve().parent / "numpy_pca.py"), str(work / "in.npy"),
+                           str(work / "out.npy"), str(repeats)], capture_output=True, text=True, check=True, env=env)
+    rep = json.loads(proc.stdout)
+    return np.load(work / "out.npy"), rep["rank"], rep["seconds"]
+
+
+def bench_scene(scene, level, noisy_pattern, ref_pattern, configs, work, repeats):
+    noisy = statfilter.read_sequence(str(noisy_pattern))
+    ref = statfilter.read_sequence(str(ref_pattern))
+    frames = noisy.shape[0]
+    rows = []
+    base = measure(noisy, ref, noisy)
+    rows.append(dict(scene=scene, level=level, label="input (noisy)", method="input", compute_ms_per_frame=0,
+                     cli_s=None, rss_mb=None, **base))
+    np_out, np_rank, np_time = numpy_reference(noisy, work, repeats)
+    rows.append(dict(scene=scene, level=level, label="numpy pca auto", method="numpy", rank=np_rank,
+                     compute_ms_per_frame=1000 * np_time / frames, cli_s=None, rss_mb=None,
+                     **measure(noisy, ref, np_out)))
+    for label, method, params in configs:
+        flt = statfilter.Filter(method, **params)
+        out, seconds = timed(lambda: flt(noisy), repeats)
+        results = {k: v for k, v in flt.results.items() if not isinstance(v, np.ndarray)}
+        out_pattern = work / "out.####.exr"
+        report_json, rss = run_cli(["denoise", noisy_pattern, out_pattern, "--method", method, "--float",
+                                    *[x for k, v in params.items() for x in (f"--{k}", v)]])
+        rows.append(dict(scene=scene, level=level, label=label, method=method, params=params,
+                         compute_ms_per_frame=1000 * seconds / frames, cli_s=report_json["seconds"], rss_mb=rss,
+                         results=results, **measure(noisy, ref, out)))
+        print(f"  {scene}/{level} {label:38s} relMSE {rows[-1]['rel_mse']:.4f} "
+              f"{rows[-1]['compute_ms_per_frame']:.2f} ms/frame", file=sys.stderr)
+    return rows
+
+
+def production_size(data, work, quick):
+    """Throughput on 1920x1080 frames made by resizing a real sequence, against a plain OIIO read+write."""
+    oiiotool = shutil.which("oiiotool")
+    source = next((p for p in [data / "cornell_moving" / "spp0004"] if p.is_dir()), None)
+    if not oiiotool or source is None:
+        return None
+    frames = 8 if quick else 32
+    big = work / "big"
+    big.mkdir(exist_ok=True)
+    for f in range(1, frames + 1):
+        subprocess.run([oiiotool, str(source / f"indirect.{f:04d}.exr"), "--resize", "1920x1080",
+                        "-d", "half", "--compression", "zip", "-o", str(big / f"in.{f:04d}.exr")], check=True)
+    pattern = big / "in.####.exr"
+    t0 = time.perf_counter()
+    subprocess.run([oiiotool, "--frames", f"1-{frames}", str(big / "in.#.exr"), "-d", "half", "--compression", "zip",
+                    "-o", str(big / "io.#.exr")], check=True, capture_output=True)
+    floor = time.perf_counter() - t0
+    rows = [dict(label="oiiotool read + write (I/O floor)", seconds=floor, rss_mb=None)]
+    for label, method, params in [("copy", "copy", {}), ("pca auto", "pca", {"rank": "auto"}),
+                                  ("pca auto, memory_mb 64", "pca", {"rank": "auto", "memory_mb": "64"}),
+                                  ("error-threshold", "error-threshold", {}),
+                                  ("moving-basis", "moving-basis", {})]:
+        t0 = time.perf_counter()
+        rep, rss = run_cli(["denoise", pattern, big / "out.####.exr", "--method", method,
+                            *[x for k, v in params.items() for x in (f"--{k}", v)]])
+        rows.append(dict(label=label, seconds=time.perf_counter() - t0, rss_mb=rss))
+    megapixel_frames = frames * 1920 * 1080 / 1e6
+    for r in rows:
+        r["ms_per_mpix_frame"] = 1000 * r["seconds"] / megapixel_frames
+        r["ratio_to_floor"] = r["seconds"] / floor
+    return dict(frames=frames, width=1920, height=1080, rows=rows)
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--data", type=Path, default=ROOT.parent / "shared" / "data")
+    parser.add_argument("--docs", type=Path, default=ROOT / "docs")
+    parser.add_argument("--quick", action="store_true", help="fewer configurations, one repeat")
+    args = parser.parse_args()
+    if not args.data.is_dir():
+        args.data = ROOT / "sample"
+    configs = sweeps(args.quick)
+    repeats = 1 if args.quick else 3
+    rows = []
+    with tempfile.TemporaryDirectory() as tmp:
+        work = Path(tmp)
+        for scene, level, noisy, ref in scenes(args.data):
+            rows += bench_scene(scene, level, noisy, ref, configs, work, repeats)
+        production = production_size(args.data, work, args.quick)
+    command = "python3 bench/run_benchmarks.py" + (" --quick" if args.quick else "")
+    args.docs.mkdir(exist_ok=True)
+    (args.docs / "benchmarks.json").write_text(json.dumps(dict(rows=rows, production=production), indent=1,
+                                                          default=float))
+    report.write(rows, production, args.docs, command, os.cpu_count())
+
+
+if __name__ == "__main__":
+    main()
