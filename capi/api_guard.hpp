@@ -1,7 +1,6 @@
 // The boundary between the C ABI and the C++ core: handle structs, and the guard that turns every
 // exception into a status code plus a message (thread-local, and on the handle when there is one).
 #pragma once
-#include <map>
 #include <memory>
 #include <new>
 #include <string>
@@ -21,7 +20,6 @@ struct sf_filter_s {
     std::string last_error;
     sf_progress_callback progress = nullptr;
     void* progress_user = nullptr;
-    std::map<int, std::string> param_choices;  // sf_param_info.choices text, alive with the handle
 };
 
 namespace statfilter::capi {

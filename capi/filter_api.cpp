@@ -18,12 +18,6 @@ sf_status on_filter(sf_filter filter, Body&& body) {
     return guarded([&] { body(require_filter(filter)); }, handle_error);
 }
 
-std::string join(const std::vector<std::string>& items) {
-    std::string out;
-    for (const auto& s : items) out += (out.empty() ? "" : ",") + s;
-    return out;
-}
-
 }  // namespace
 
 extern "C" {
@@ -109,9 +103,6 @@ sf_status sf_filter_param_info(sf_filter filter, int index, sf_param_info* info)
         if (index < 0 || static_cast<size_t>(index) >= specs.size())
             throw Error(Status::InvalidArgument, "parameter index " + std::to_string(index) + " out of range");
         const ParamSpec& s = specs[static_cast<size_t>(index)];
-        // The choices text lives on the handle, one per parameter, as long as the handle does.
-        std::string& choices = f.param_choices[index];
-        choices = join(s.choices);
         sf_param_info full;
         full.struct_size = out.struct_size;
         full.name = s.name.c_str();
@@ -120,7 +111,7 @@ sf_status sf_filter_param_info(sf_filter filter, int index, sf_param_info* info)
         full.description = s.description.c_str();
         full.min = s.min;
         full.max = s.max;
-        full.choices = choices.c_str();
+        full.choices = s.choices_text.c_str();  // owned by the filter, like the other strings
         std::memcpy(&out, &full, out.struct_size);
     });
 }

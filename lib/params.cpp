@@ -51,7 +51,9 @@ std::string format_number(double v) {
 }
 
 ParamSet::ParamSet(std::vector<ParamSpec> specs) : specs_(std::move(specs)) {
-    for (const auto& s : specs_) {
+    for (auto& s : specs_) {
+        s.choices_text.clear();
+        for (const auto& c : s.choices) s.choices_text += (s.choices_text.empty() ? "" : ",") + c;
         values_[s.name].type = s.type;
         set_string(s.name, s.default_value);
     }

@@ -5,6 +5,7 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <atomic>
 #include <cmath>
 #include <cstdio>
@@ -96,6 +97,11 @@ void write_sequence(const Sequence& seq, const std::string& pattern_text, const 
         throw Error(Status::InvalidArgument, "output pattern '" + pattern_text + "' has no frame token (#, @ or %0Nd) but the sequence has " +
                                                  std::to_string(s.frames) + " frames");
     check_compression(options.compression);
+    std::vector<int64_t> numbers = seq.frame_numbers();
+    std::sort(numbers.begin(), numbers.end());
+    if (std::adjacent_find(numbers.begin(), numbers.end()) != numbers.end())
+        throw Error(Status::InvalidArgument, "frame number " + std::to_string(*std::adjacent_find(numbers.begin(), numbers.end())) +
+                                                 " appears twice: each frame needs its own file");
     check_color_conversion(options.color, s.channels);
     check_directory(pattern.format(seq.frame_numbers().front()));
 

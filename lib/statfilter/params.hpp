@@ -20,6 +20,7 @@ struct ParamSpec {
     double max = std::numeric_limits<double>::infinity();
     std::vector<std::string> choices;  // String: allowed words (empty = free text)
     bool accepts_integer = false;      // String: an integer in [min, max] is also allowed (e.g. rank)
+    std::string choices_text;          // the choices as one comma list (filled by ParamSet)
 };
 
 // A value in every representation a caller may ask for.
