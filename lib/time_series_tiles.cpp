@@ -1,6 +1,7 @@
 #include "statfilter/time_series_tiles.hpp"
 
 #include <algorithm>
+#include <limits>
 
 namespace statfilter {
 
@@ -41,7 +42,12 @@ void gather_tile(const Sequence& seq, PixelRange range, ChannelSelection ch, dou
 }
 
 void scatter_tile(const double* tile, PixelRange range, ChannelSelection ch, Sequence& seq) {
-    walk_tile(seq, range, ch, [tile](float* v, int64_t j) { *v = static_cast<float>(tile[j]); });
+    // A reconstruction may overshoot an input at the float limit: saturate rather than become Inf.
+    constexpr double lim = std::numeric_limits<float>::max();
+    walk_tile(seq, range, ch, [tile, lim](float* v, int64_t j) {
+        const double x = tile[j];
+        *v = static_cast<float>(x > lim ? lim : (x < -lim ? -lim : x));  // NaN passes through
+    });
 }
 
 }  // namespace statfilter

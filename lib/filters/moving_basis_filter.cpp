@@ -126,7 +126,7 @@ public:
     MovingBasisFilter() : Filter(make_params()) {}
 
     static std::vector<ParamSpec> make_params() {
-        std::vector<ParamSpec> p = {rank_param("2"), energy_param()};
+        std::vector<ParamSpec> p = {rank_param("auto"), energy_param()};
         ParamSpec s;
         s.name = "half_width";
         s.type = ParamType::Int;

@@ -8,9 +8,9 @@ std::vector<ParamSpec> temporal_common_params() {
         ParamSpec s;
         s.name = "transform";
         s.type = ParamType::String;
-        s.default_value = "none";
+        s.default_value = "log";  // measured best on every scene and level: docs/methods.md
         s.choices = {"none", "sqrt", "log"};
-        s.description = "variance-stabilising transform applied before the temporal basis and undone after";
+        s.description = "variance-stabilising transform (signed) applied before the temporal basis and undone after";
         p.push_back(s);
     }
     {

@@ -28,7 +28,7 @@ std::vector<PixelRange> make_pixel_tiles(const Shape& shape, int64_t channels_pe
 
 // tile[f * n + j] = sample of series j in frame f, n = range.size() * channels.count.
 void gather_tile(const Sequence& seq, PixelRange range, ChannelSelection channels, double* tile);
-// The inverse of gather_tile, rounding to float.
+// The inverse of gather_tile, rounding to float and saturating at the float range.
 void scatter_tile(const double* tile, PixelRange range, ChannelSelection channels, Sequence& seq);
 
 }  // namespace statfilter

@@ -23,4 +23,11 @@ inline FilterRun run_filter(const std::string& name, const Sequence& input,
     return r;
 }
 
+// The filter on the raw values (transform=none unless given): the linear algebra the references check.
+inline FilterRun run_linear(const std::string& name, const Sequence& input,
+                            std::map<std::string, std::string> params = {}) {
+    params.emplace("transform", "none");
+    return run_filter(name, input, params);
+}
+
 }  // namespace statfilter::test

@@ -76,7 +76,7 @@ TEST(MovingBasis, MatchesPlainPerWindowPca) {
     const auto noisy = make_low_rank(g);
     for (const std::string mode : {"basis", "uniform", "reconstruction"})
         for (int rank : {1, 2}) {
-            const FilterRun r = run_filter("moving-basis", *noisy, {{"weights", mode}, {"rank", std::to_string(rank)},
+            const FilterRun r = run_linear("moving-basis", *noisy, {{"weights", mode}, {"rank", std::to_string(rank)},
                                                               {"half_width", "4"}, {"sigma", "2"}});
             EXPECT_LT(max_abs_diff(*r.output, *moving_basis_reference(*noisy, 4, 2.0, rank, mode)), 2e-5)
                 << mode << " rank " << rank;
@@ -88,7 +88,7 @@ TEST(MovingBasis, FullRankWindowsReproduceTheInput) {
     g.frames = 9;
     g.noise = 0.1;
     const auto noisy = make_low_rank(g);
-    const FilterRun r = run_filter("moving-basis", *noisy, {{"rank", "100"}, {"half_width", "3"}});
+    const FilterRun r = run_linear("moving-basis", *noisy, {{"rank", "100"}, {"half_width", "3"}});
     EXPECT_LT(max_abs_diff(*r.output, *noisy), 1e-5);
 }
 
@@ -97,12 +97,12 @@ TEST(MovingBasis, WindowsWiderThanTheSequenceAndSingleFrames) {
     g.frames = 5;
     g.noise = 0.1;
     const auto noisy = make_low_rank(g);
-    const FilterRun wide = run_filter("moving-basis", *noisy, {{"rank", "1"}, {"half_width", "50"}, {"weights", "uniform"}});
+    const FilterRun wide = run_linear("moving-basis", *noisy, {{"rank", "1"}, {"half_width", "50"}, {"weights", "uniform"}});
     // A window covering everything is global PCA.
-    EXPECT_LT(max_abs_diff(*wide.output, *run_filter("pca", *noisy, {{"rank", "1"}}).output), 1e-5);
+    EXPECT_LT(max_abs_diff(*wide.output, *run_linear("pca", *noisy, {{"rank", "1"}}).output), 1e-5);
     g.frames = 1;
     const auto one = make_low_rank(g);
-    EXPECT_EQ(max_abs_diff(*run_filter("moving-basis", *one).output, *one), 0.0);
+    EXPECT_EQ(max_abs_diff(*run_linear("moving-basis", *one).output, *one), 0.0);
 }
 
 TEST(MovingBasis, FrameWindowIsOneSidedAtTheEnds) {

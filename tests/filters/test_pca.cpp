@@ -42,7 +42,7 @@ TEST(Pca, AutoRankFindsTheTrueRankAndRemovesMostNoise) {
     LowRank g;
     g.noise = 0.05;
     const auto noisy = make_low_rank(g, &clean);
-    const FilterRun r = run_filter("pca", *noisy, {{"rank", "auto"}});
+    const FilterRun r = run_linear("pca", *noisy, {{"rank", "auto"}});
     EXPECT_EQ(r.result("rank"), 3);
     EXPECT_NEAR(r.result("noise_sigma"), 0.05, 0.005);  // Gavish-Donoho's noise estimate
     EXPECT_LT(mse(*r.output, *clean), mse(*noisy, *clean) / 5);
@@ -54,11 +54,11 @@ TEST(Pca, PoissonLikeNoise) {
     g.noise = 0.08;
     g.poisson_like = true;
     const auto noisy = make_low_rank(g, &clean);
-    const FilterRun plain = run_filter("pca", *noisy, {{"rank", "auto"}});
+    const FilterRun plain = run_linear("pca", *noisy, {{"rank", "auto"}});
     EXPECT_EQ(plain.result("rank"), 3);
     EXPECT_LT(mse(*plain.output, *clean), mse(*noisy, *clean) / 4);
     // sqrt evens out the noise but bends the low-rank signal: one more (weak) component appears.
-    const FilterRun stabilised = run_filter("pca", *noisy, {{"rank", "auto"}, {"transform", "sqrt"}});
+    const FilterRun stabilised = run_linear("pca", *noisy, {{"rank", "auto"}, {"transform", "sqrt"}});
     EXPECT_GE(stabilised.result("rank"), 3);
     EXPECT_LE(stabilised.result("rank"), 4);
     EXPECT_LT(mse(*stabilised.output, *clean), mse(*noisy, *clean) / 3);
@@ -67,10 +67,10 @@ TEST(Pca, PoissonLikeNoise) {
 TEST(Pca, NoiseFreeLowRankIsReconstructedExactly) {
     LowRank g;
     const auto clean = make_low_rank(g);
-    const FilterRun r = run_filter("pca", *clean, {{"rank", "3"}});
+    const FilterRun r = run_linear("pca", *clean, {{"rank", "3"}});
     EXPECT_LT(max_abs_diff(*r.output, *clean), 1e-5);
     // Too few components loses signal: the test can fail.
-    EXPECT_GT(max_abs_diff(*run_filter("pca", *clean, {{"rank", "2"}}).output, *clean), 1e-2);
+    EXPECT_GT(max_abs_diff(*run_linear("pca", *clean, {{"rank", "2"}}).output, *clean), 1e-2);
 }
 
 TEST(Pca, MatchesOpenCvReference) {
@@ -78,7 +78,7 @@ TEST(Pca, MatchesOpenCvReference) {
     g.noise = 0.1;
     const auto noisy = make_low_rank(g);
     for (int rank : {1, 2, 5}) {
-        const FilterRun r = run_filter("pca", *noisy, {{"rank", std::to_string(rank)}});
+        const FilterRun r = run_linear("pca", *noisy, {{"rank", std::to_string(rank)}});
         EXPECT_LT(max_abs_diff(*r.output, *opencv_pca_reference(*noisy, rank)), 1e-5) << "rank " << rank;
     }
 }
@@ -87,13 +87,13 @@ TEST(Pca, SeparateBasesPerChannelMatchPerChannelRuns) {
     LowRank g;
     g.noise = 0.1;
     const auto noisy = make_low_rank(g);
-    const FilterRun both = run_filter("pca", *noisy, {{"rank", "2"}, {"shared_basis", "0"}});
+    const FilterRun both = run_linear("pca", *noisy, {{"rank", "2"}, {"shared_basis", "0"}});
     // Channel 1 alone through a one-channel sequence gives the same numbers.
     Sequence one(Shape{g.frames, g.height, g.width, 1});
     for (int64_t f = 0; f < g.frames; ++f)
         for (int64_t y = 0; y < g.height; ++y)
             for (int64_t x = 0; x < g.width; ++x) one.at(f, y, x, 0) = noisy->at(f, y, x, 1);
-    const FilterRun single = run_filter("pca", one, {{"rank", "2"}});
+    const FilterRun single = run_linear("pca", one, {{"rank", "2"}});
     double worst = 0;
     for (int64_t f = 0; f < g.frames; ++f)
         for (int64_t y = 0; y < g.height; ++y)
@@ -109,8 +109,8 @@ TEST(Pca, TiledResultEqualsUntiled) {
     g.width = 80;
     g.noise = 0.1;
     const auto noisy = make_low_rank(g);
-    const FilterRun whole = run_filter("pca", *noisy, {{"rank", "auto"}, {"memory_mb", "4096"}});
-    const FilterRun tiled = run_filter("pca", *noisy, {{"rank", "auto"}, {"memory_mb", "1"}});  // 1024-pixel tiles
+    const FilterRun whole = run_linear("pca", *noisy, {{"rank", "auto"}, {"memory_mb", "4096"}});
+    const FilterRun tiled = run_linear("pca", *noisy, {{"rank", "auto"}, {"memory_mb", "1"}});  // 1024-pixel tiles
     EXPECT_EQ(whole.result("rank"), tiled.result("rank"));
     EXPECT_LT(max_abs_diff(*whole.output, *tiled.output), 1e-6);
 }
@@ -118,8 +118,8 @@ TEST(Pca, TiledResultEqualsUntiled) {
 TEST(Pca, EnergyRank) {
     LowRank g;
     const auto clean = make_low_rank(g);
-    EXPECT_EQ(run_filter("pca", *clean, {{"rank", "energy"}, {"energy", "0.999999"}}).result("rank"), 3);
-    EXPECT_LE(run_filter("pca", *clean, {{"rank", "energy"}, {"energy", "0.3"}}).result("rank"), 2);
+    EXPECT_EQ(run_linear("pca", *clean, {{"rank", "energy"}, {"energy", "0.999999"}}).result("rank"), 3);
+    EXPECT_LE(run_linear("pca", *clean, {{"rank", "energy"}, {"energy", "0.3"}}).result("rank"), 2);
 }
 
 TEST(PcaExtremes, ConstantAndZeroSequencesAreUnchanged) {
@@ -129,7 +129,7 @@ TEST(PcaExtremes, ConstantAndZeroSequencesAreUnchanged) {
             for (int64_t y = 0; y < 4; ++y)
                 for (int64_t x = 0; x < 5; ++x)
                     for (int64_t c = 0; c < 3; ++c) in.at(f, y, x, c) = value;
-        const FilterRun r = run_filter("pca", in);
+        const FilterRun r = run_linear("pca", in);
         EXPECT_EQ(max_abs_diff(*r.output, in), 0.0) << value;
         EXPECT_EQ(r.result("rank"), 0);
     }
@@ -140,12 +140,12 @@ TEST(PcaExtremes, OneAndTwoFrames) {
     g.frames = 1;
     g.noise = 0.1;
     const auto one = make_low_rank(g);
-    const FilterRun r1 = run_filter("pca", *one, {{"rank", "auto"}});
+    const FilterRun r1 = run_linear("pca", *one, {{"rank", "auto"}});
     EXPECT_EQ(max_abs_diff(*r1.output, *one), 0.0);  // nothing to learn from time: unchanged
     EXPECT_EQ(r1.result("rank"), 0);
     g.frames = 2;
     const auto two = make_low_rank(g);
-    const FilterRun r2 = run_filter("pca", *two, {{"rank", "5"}});
+    const FilterRun r2 = run_linear("pca", *two, {{"rank", "5"}});
     EXPECT_EQ(r2.result("rank"), 1);  // clamped to frames - 1
     EXPECT_LT(max_abs_diff(*r2.output, *two), 1e-6);
 }
@@ -155,7 +155,7 @@ TEST(PcaExtremes, RankLargerThanFramesIsClampedAndExact) {
     g.frames = 5;
     g.noise = 0.1;
     const auto noisy = make_low_rank(g);
-    const FilterRun r = run_filter("pca", *noisy, {{"rank", "100"}});
+    const FilterRun r = run_linear("pca", *noisy, {{"rank", "100"}});
     EXPECT_EQ(r.result("rank"), 4);
     EXPECT_LT(max_abs_diff(*r.output, *noisy), 1e-5);
 }
@@ -168,17 +168,17 @@ TEST(PcaExtremes, MoreFramesThanPixels) {
     g.rank = 1;
     g.noise = 0.01;
     const auto noisy = make_low_rank(g);
-    const FilterRun r = run_filter("pca", *noisy, {{"rank", "auto"}});
+    const FilterRun r = run_linear("pca", *noisy, {{"rank", "auto"}});
     EXPECT_LE(r.result("rank"), 3);  // at most as many components as series
     EXPECT_TRUE(all_finite(*r.output));
-    EXPECT_LT(max_abs_diff(*run_filter("pca", *noisy, {{"rank", "3"}}).output, *noisy), 1e-5);
+    EXPECT_LT(max_abs_diff(*run_linear("pca", *noisy, {{"rank", "3"}}).output, *noisy), 1e-5);
 }
 
 TEST(PcaExtremes, TinyAndHugeValuesScaleExactly) {
     LowRank g;
     g.noise = 0.05;
     const auto base = make_low_rank(g);
-    const FilterRun reference = run_filter("pca", *base, {{"rank", "auto"}});
+    const FilterRun reference = run_linear("pca", *base, {{"rank", "auto"}});
     for (double scale : {1e-30, 1e30}) {
         Sequence scaled(base->shape());
         const Shape& s = base->shape();
@@ -187,7 +187,7 @@ TEST(PcaExtremes, TinyAndHugeValuesScaleExactly) {
                 for (int64_t x = 0; x < s.width; ++x)
                     for (int64_t c = 0; c < s.channels; ++c)
                         scaled.at(f, y, x, c) = static_cast<float>(base->at(f, y, x, c) * scale);
-        const FilterRun r = run_filter("pca", scaled, {{"rank", "auto"}});
+        const FilterRun r = run_linear("pca", scaled, {{"rank", "auto"}});
         EXPECT_EQ(r.result("rank"), reference.result("rank")) << scale;
         ASSERT_TRUE(all_finite(*r.output));
         double worst = 0;
@@ -200,14 +200,31 @@ TEST(PcaExtremes, TinyAndHugeValuesScaleExactly) {
     }
 }
 
+TEST(PcaExtremes, LogTransformStaysFiniteUpToTheFloatLimit) {
+    LowRank g;
+    g.offset = 1.0;
+    g.noise = 0.05;
+    auto seq = make_low_rank(g);
+    seq->at(0, 0, 0, 0) = std::numeric_limits<float>::max();
+    seq->at(1, 0, 0, 0) = -std::numeric_limits<float>::max();
+    seq->at(2, 1, 1, 1) = std::numeric_limits<float>::denorm_min();
+    const FilterRun r = run_filter("pca", *seq, {{"rank", "auto"}, {"transform", "log"}});
+    EXPECT_TRUE(all_finite(*r.output));
+    // With every component kept, the transform round trip gives back the input.
+    const FilterRun full = run_filter("pca", *seq, {{"rank", "100"}, {"transform", "log"}});
+    EXPECT_TRUE(all_finite(*full.output));
+    EXPECT_NEAR(full.output->at(0, 0, 0, 0) / std::numeric_limits<float>::max(), 1.0, 1e-4);
+    EXPECT_NEAR(full.output->at(5, 3, 3, 0), seq->at(5, 3, 3, 0), 1e-5);
+}
+
 TEST(PcaExtremes, LargeMeanSmallVariationKeepsThePrecisionFloatHas) {
     LowRank g;
     g.offset = 1e6;
     g.amplitude = 1.0;
     const auto clean = make_low_rank(g);
-    const FilterRun r = run_filter("pca", *clean, {{"rank", "3"}});
+    const FilterRun r = run_linear("pca", *clean, {{"rank", "3"}});
     EXPECT_LE(max_abs_diff(*r.output, *clean), 0.0625);  // one float ulp at 1e6
-    EXPECT_GT(max_abs_diff(*run_filter("pca", *clean, {{"rank", "0"}}).output, *clean), 0.5);
+    EXPECT_GT(max_abs_diff(*run_linear("pca", *clean, {{"rank", "0"}}).output, *clean), 0.5);
 }
 
 TEST(PcaExtremes, NonFiniteInputErrorOrRepair) {
@@ -217,13 +234,13 @@ TEST(PcaExtremes, NonFiniteInputErrorOrRepair) {
     noisy->at(3, 2, 1, 0) = std::numeric_limits<float>::quiet_NaN();
     noisy->at(7, 5, 5, 2) = std::numeric_limits<float>::infinity();
     try {
-        run_filter("pca", *noisy);
+        run_linear("pca", *noisy);
         FAIL() << "NaN accepted";
     } catch (const Error& e) {
         EXPECT_EQ(e.status(), Status::Numeric);
         EXPECT_NE(std::string(e.what()).find("NaN in frame 4 at pixel (1, 2)"), std::string::npos) << e.what();
     }
-    const FilterRun r = run_filter("pca", *noisy, {{"nonfinite", "repair"}});
+    const FilterRun r = run_linear("pca", *noisy, {{"nonfinite", "repair"}});
     EXPECT_EQ(r.result("nonfinite_repaired"), 2);
     EXPECT_TRUE(all_finite(*r.output));
 }
@@ -233,5 +250,5 @@ TEST(RankChoice, GavishDonohoOnPureNoiseKeepsNothing) {
     g.rank = 0;
     g.noise = 1.0;
     const auto noise = make_low_rank(g);
-    EXPECT_EQ(run_filter("pca", *noise, {{"rank", "auto"}}).result("rank"), 0);
+    EXPECT_EQ(run_linear("pca", *noise, {{"rank", "auto"}}).result("rank"), 0);
 }
