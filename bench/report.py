@@ -4,8 +4,8 @@ import datetime
 import platform
 from collections import defaultdict
 
-DEFAULTS = {"pca": "pca auto none", "error-threshold": "error-threshold w9 t2",
-            "moving-basis": "moving-basis h8 reconstruction r1"}
+DEFAULTS = {"pca": "pca auto log", "error-threshold": "error-threshold w9 t2",
+            "moving-basis": "moving-basis h8 reconstruction rauto"}
 COLORS = {"input": "black", "numpy": "grey", "pca": "tab:blue", "error-threshold": "tab:green",
           "moving-basis": "tab:orange"}
 

@@ -36,7 +36,8 @@ CLI = ROOT / "build" / "tools" / "statfilter"
 
 
 def sweeps(quick):
-    """(label, method, params) of every configuration measured."""
+    """(label, method, params) of every configuration measured; unnamed parameters take defaults
+    (transform=log for every temporal filter)."""
     configs = [("temporal mean", "pca", {"rank": "0"})]
     ranks = ["1", "2", "4"] if quick else ["1", "2", "3", "4", "6", "8"]
     configs += [(f"pca rank {r}", "pca", {"rank": r}) for r in ranks]
@@ -47,12 +48,13 @@ def sweeps(quick):
     for w in windows:
         for t in thresholds:
             configs.append((f"error-threshold w{w} t{t}", "error-threshold", {"window": str(w), "threshold": str(t)}))
-    configs.append(("error-threshold w9 t2 log", "error-threshold", {"transform": "log"}))
+    configs.append(("error-threshold w9 t2 none", "error-threshold", {"transform": "none"}))
     half_widths = [4, 8] if quick else [2, 4, 8]
     for h in half_widths:
         for weights, rank in [("reconstruction", "1"), ("uniform", "2"), ("basis", "2"), ("reconstruction", "auto")]:
             configs.append((f"moving-basis h{h} {weights} r{rank}", "moving-basis",
                             {"half_width": str(h), "sigma": str(h / 2), "weights": weights, "rank": rank}))
+    configs.append(("moving-basis h8 reconstruction rauto none", "moving-basis", {"transform": "none"}))
     return configs
 
 
