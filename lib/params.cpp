@@ -43,6 +43,43 @@ void check_range(const ParamSpec& s, double v) {
 
 }  // namespace
 
+namespace {
+
+ParamSpec numeric_param(ParamType type, const std::string& name, const std::string& default_value, double min,
+                        double max, const std::string& description) {
+    ParamSpec s;
+    s.name = name;
+    s.type = type;
+    s.default_value = default_value;
+    s.min = min;
+    s.max = max;
+    s.description = description;
+    return s;
+}
+
+}  // namespace
+
+ParamSpec int_param(const std::string& name, const std::string& default_value, double min, double max,
+                    const std::string& description) {
+    return numeric_param(ParamType::Int, name, default_value, min, max, description);
+}
+
+ParamSpec float_param(const std::string& name, const std::string& default_value, double min, double max,
+                      const std::string& description) {
+    return numeric_param(ParamType::Float, name, default_value, min, max, description);
+}
+
+ParamSpec choice_param(const std::string& name, const std::string& default_value, std::vector<std::string> choices,
+                       const std::string& description) {
+    ParamSpec s;
+    s.name = name;
+    s.type = ParamType::String;
+    s.default_value = default_value;
+    s.choices = std::move(choices);
+    s.description = description;
+    return s;
+}
+
 std::string format_number(double v) {
     if (std::isinf(v)) return v > 0 ? "inf" : "-inf";
     char buf[64];

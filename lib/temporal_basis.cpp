@@ -32,25 +32,26 @@ void symmetric_eigen(int64_t n, std::vector<double>& a, std::vector<double>& w) 
     for (double& v : w) v = std::max(v, 0.0);  // rounding can leave tiny negatives
 }
 
+void finish_tile(PreparedTile& t, int64_t frames, ChannelSelection channels, const SeriesPrep& prep, Sequence& output) {
+    for (int64_t f = 0; f < frames; ++f)
+        for (int64_t j = 0; j < t.n; ++j) t.tile[f * t.n + j] += t.means[j];
+    inverse_transform(prep.transform, t.tile.data(), t.tile.size());
+    scatter_tile(t.tile.data(), t.range, channels, output);
+}
+
 TemporalBasis compute_temporal_basis(const Sequence& seq, ChannelSelection channels,
                                      const std::vector<PixelRange>& tiles, const SeriesPrep& prep,
                                      const ProgressSpan& progress) {
     const int64_t F = seq.shape().frames;
     TemporalBasis basis;
     basis.frames = F;
-    std::vector<double> gram(static_cast<size_t>(F * F), 0.0), tile, means;
-    for (size_t t = 0; t < tiles.size(); ++t) {
-        progress.report(static_cast<double>(t) / tiles.size());
-        const int64_t n = tiles[t].size() * channels.count;
-        tile.resize(static_cast<size_t>(F * n));
-        means.resize(static_cast<size_t>(n));
-        gather_tile(seq, tiles[t], channels, tile.data());
-        prepare_tile(tile.data(), F, n, prep, means.data());
+    std::vector<double> gram(static_cast<size_t>(F * F), 0.0);
+    for_each_prepared_tile(seq, channels, tiles, prep, progress, [&](PreparedTile& t) {
         // Float inputs squared in double cannot overflow (3.4e38^2 ~ 1e77), so no rescaling is needed.
-        cblas_dsyrk(CblasRowMajor, CblasUpper, CblasNoTrans, static_cast<int>(F), static_cast<int>(n), 1.0,
-                    tile.data(), static_cast<int>(n), 1.0, gram.data(), static_cast<int>(F));
-        basis.series += n;
-    }
+        cblas_dsyrk(CblasRowMajor, CblasUpper, CblasNoTrans, static_cast<int>(F), static_cast<int>(t.n), 1.0,
+                    t.tile.data(), static_cast<int>(t.n), 1.0, gram.data(), static_cast<int>(F));
+        basis.series += t.n;
+    });
     for (int64_t i = 0; i < F; ++i)
         for (int64_t j = 0; j < i; ++j) gram[i * F + j] = gram[j * F + i];
     for (double v : gram)
@@ -58,7 +59,6 @@ TemporalBasis compute_temporal_basis(const Sequence& seq, ChannelSelection chann
             throw Error(Status::Numeric, "the temporal Gram matrix is not finite (NaN/Inf in the input?)");
     symmetric_eigen(F, gram, basis.eigenvalues);
     basis.vectors = std::move(gram);
-    progress.report(1.0);
     return basis;
 }
 

@@ -28,29 +28,23 @@ CoefficientEnergy coefficient_energy(const Sequence& input, ChannelSelection gro
     CoefficientEnergy e;
     for (int64_t i = 0; i < rank; ++i) e.planes.emplace_back(static_cast<int>(s.height), static_cast<int>(s.width), CV_64F, cv::Scalar(0));
     e.tail = cv::Mat(static_cast<int>(s.height), static_cast<int>(s.width), CV_64F, cv::Scalar(0));
-    std::vector<double> tile, means, a;
-    for (size_t t = 0; t < tiles.size(); ++t) {
-        progress.report(static_cast<double>(t) / tiles.size());
-        const int64_t n = tiles[t].size() * group.count;
-        tile.resize(static_cast<size_t>(F * n));
-        means.resize(static_cast<size_t>(n));
+    std::vector<double> a;
+    for_each_prepared_tile(input, group, tiles, prep, progress, [&](PreparedTile& t) {
+        const int64_t n = t.n;
         a.resize(static_cast<size_t>(std::max<int64_t>(rank, 1) * n));
-        gather_tile(input, tiles[t], group, tile.data());
-        prepare_tile(tile.data(), F, n, prep, means.data());
-        if (rank > 0) project_onto_basis(basis, rank, tile.data(), n, a.data());
+        if (rank > 0) project_onto_basis(basis, rank, t.tile.data(), n, a.data());
         for (int64_t j = 0; j < n; ++j) {
-            const int64_t p = tiles[t].begin + j / group.count;
+            const auto p = static_cast<int>(t.range.begin + j / group.count);
             double total = 0, kept = 0;
-            for (int64_t f = 0; f < F; ++f) total += tile[f * n + j] * tile[f * n + j];
+            for (int64_t f = 0; f < F; ++f) total += t.tile[f * n + j] * t.tile[f * n + j];
             for (int64_t i = 0; i < rank; ++i) {
                 const double ai2 = a[i * n + j] * a[i * n + j];
-                e.planes[i].at<double>(static_cast<int>(p)) += ai2;
+                e.planes[i].at<double>(p) += ai2;
                 kept += ai2;
             }
-            e.tail.at<double>(static_cast<int>(p)) += std::max(0.0, total - kept);
+            e.tail.at<double>(p) += std::max(0.0, total - kept);
         }
-    }
-    progress.report(1.0);
+    });
     return e;
 }
 
@@ -63,31 +57,12 @@ public:
     ErrorThresholdFilter() : Filter(make_params()) {}
 
     static std::vector<ParamSpec> make_params() {
-        std::vector<ParamSpec> p;
-        ParamSpec s;
-        s.name = "max_rank";
-        s.type = ParamType::Int;
-        s.default_value = "8";
-        s.min = 1;
-        s.max = 1000000;
-        s.description = "most components a pixel may keep; the rest estimate the local noise";
-        p.push_back(s);
-        s = ParamSpec();
-        s.name = "threshold";
-        s.type = ParamType::Float;
-        s.default_value = "2";
-        s.min = 0;
-        s.max = 1e6;
-        s.description = "keep component i while its pooled energy exceeds threshold x the local noise energy";
-        p.push_back(s);
-        s = ParamSpec();
-        s.name = "window";
-        s.type = ParamType::Int;
-        s.default_value = "9";
-        s.min = 1;
-        s.max = 255;
-        s.description = "side of the square window (pixels) over which coefficient energy is pooled";
-        p.push_back(s);
+        std::vector<ParamSpec> p = {
+            int_param("max_rank", "8", 1, 1000000, "most components a pixel may keep; the rest estimate the local noise"),
+            float_param("threshold", "2", 0, 1e6,
+                        "keep component i while its pooled energy exceeds threshold x the local noise energy"),
+            int_param("window", "9", 1, 255, "side of the square window (pixels) over which coefficient energy is pooled"),
+        };
         for (auto& c : temporal_common_params()) p.push_back(c);
         return p;
     }

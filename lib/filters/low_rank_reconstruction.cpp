@@ -16,33 +16,24 @@ void reconstruct_low_rank(const Sequence& input, Sequence& output, ChannelSelect
                           const std::vector<PixelRange>& tiles, const SeriesPrep& prep, const TemporalBasis& basis,
                           int64_t rank, const std::vector<int64_t>* pixel_ranks, const ProgressSpan& progress) {
     const int64_t F = basis.frames;
-    std::vector<double> tile, means, a;
-    for (size_t t = 0; t < tiles.size(); ++t) {
-        progress.report(static_cast<double>(t) / tiles.size());
-        const int64_t n = tiles[t].size() * group.count;
-        tile.resize(static_cast<size_t>(F * n));
-        means.resize(static_cast<size_t>(n));
-        gather_tile(input, tiles[t], group, tile.data());
-        prepare_tile(tile.data(), F, n, prep, means.data());
+    std::vector<double> a;
+    for_each_prepared_tile(input, group, tiles, prep, progress, [&](PreparedTile& t) {
+        const int64_t n = t.n;
         if (rank > 0) {
             // Two thin products, A = V_k^T X then X = V_k A, instead of one F x F operator.
             a.resize(static_cast<size_t>(rank * n));
-            project_onto_basis(basis, rank, tile.data(), n, a.data());
+            project_onto_basis(basis, rank, t.tile.data(), n, a.data());
             if (pixel_ranks)
                 for (int64_t j = 0; j < n; ++j)
-                    for (int64_t i = (*pixel_ranks)[tiles[t].begin + j / group.count]; i < rank; ++i) a[i * n + j] = 0;
+                    for (int64_t i = (*pixel_ranks)[t.range.begin + j / group.count]; i < rank; ++i) a[i * n + j] = 0;
             cblas_dgemm(CblasRowMajor, CblasNoTrans, CblasNoTrans, static_cast<int>(F), static_cast<int>(n),
                         static_cast<int>(rank), 1.0, basis.vectors.data(), static_cast<int>(F), a.data(),
-                        static_cast<int>(n), 0.0, tile.data(), static_cast<int>(n));
+                        static_cast<int>(n), 0.0, t.tile.data(), static_cast<int>(n));
         } else {
-            std::fill(tile.begin(), tile.end(), 0.0);
+            std::fill(t.tile.begin(), t.tile.end(), 0.0);
         }
-        for (int64_t f = 0; f < F; ++f)
-            for (int64_t j = 0; j < n; ++j) tile[f * n + j] += means[j];
-        inverse_transform(prep.transform, tile.data(), tile.size());
-        scatter_tile(tile.data(), tiles[t], group, output);
-    }
-    progress.report(1.0);
+        finish_tile(t, F, group, prep, output);
+    });
 }
 
 }  // namespace statfilter

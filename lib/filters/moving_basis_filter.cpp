@@ -75,23 +75,16 @@ std::vector<double> frame_inner_product_band(const Sequence& input, ChannelSelec
                                              const std::vector<PixelRange>& tiles, const SeriesPrep& prep, int64_t lag,
                                              int64_t* series, const ProgressSpan& progress) {
     const int64_t F = input.shape().frames;
-    std::vector<double> band(static_cast<size_t>(F * F), 0.0), tile, means;
+    std::vector<double> band(static_cast<size_t>(F * F), 0.0);
     *series = 0;
-    for (size_t t = 0; t < tiles.size(); ++t) {
-        progress.report(static_cast<double>(t) / tiles.size());
-        const int64_t n = tiles[t].size() * group.count;
-        tile.resize(static_cast<size_t>(F * n));
-        means.resize(static_cast<size_t>(n));
-        gather_tile(input, tiles[t], group, tile.data());
-        prepare_tile(tile.data(), F, n, prep, means.data());
+    for_each_prepared_tile(input, group, tiles, prep, progress, [&](PreparedTile& t) {
         for (int64_t i = 0; i < F; ++i)
             for (int64_t j = i; j <= std::min(F - 1, i + lag); ++j)
-                band[i * F + j] += cblas_ddot(static_cast<int>(n), &tile[i * n], 1, &tile[j * n], 1);
-        *series += n;
-    }
+                band[i * F + j] += cblas_ddot(static_cast<int>(t.n), &t.tile[i * t.n], 1, &t.tile[j * t.n], 1);
+        *series += t.n;
+    });
     for (int64_t i = 0; i < F; ++i)
         for (int64_t j = 0; j < i; ++j) band[i * F + j] = band[j * F + i];
-    progress.report(1.0);
     return band;
 }
 
@@ -100,25 +93,17 @@ void apply_temporal_operator(const Sequence& input, Sequence& output, ChannelSel
                              const std::vector<PixelRange>& tiles, const SeriesPrep& prep, const std::vector<double>& M,
                              int64_t lag, const ProgressSpan& progress) {
     const int64_t F = input.shape().frames;
-    std::vector<double> tile, result, means;
-    for (size_t t = 0; t < tiles.size(); ++t) {
-        progress.report(static_cast<double>(t) / tiles.size());
-        const int64_t n = tiles[t].size() * group.count;
-        tile.resize(static_cast<size_t>(F * n));
+    std::vector<double> result;
+    for_each_prepared_tile(input, group, tiles, prep, progress, [&](PreparedTile& t) {
+        const int64_t n = t.n;
         result.assign(static_cast<size_t>(F * n), 0.0);
-        means.resize(static_cast<size_t>(n));
-        gather_tile(input, tiles[t], group, tile.data());
-        prepare_tile(tile.data(), F, n, prep, means.data());
         for (int64_t i = 0; i < F; ++i)
             for (int64_t j = std::max<int64_t>(0, i - lag); j <= std::min(F - 1, i + lag); ++j)
                 if (M[i * F + j] != 0.0)
-                    cblas_daxpy(static_cast<int>(n), M[i * F + j], &tile[j * n], 1, &result[i * n], 1);
-        for (int64_t f = 0; f < F; ++f)
-            for (int64_t j = 0; j < n; ++j) result[f * n + j] += means[j];  // M keeps constants: M 1 = 1
-        inverse_transform(prep.transform, result.data(), result.size());
-        scatter_tile(result.data(), tiles[t], group, output);
-    }
-    progress.report(1.0);
+                    cblas_daxpy(static_cast<int>(n), M[i * F + j], &t.tile[j * n], 1, &result[i * n], 1);
+        t.tile.swap(result);  // M keeps constants (M 1 = 1), so the means add back as usual
+        finish_tile(t, F, group, prep, output);
+    });
 }
 
 class MovingBasisFilter final : public Filter {
@@ -126,31 +111,15 @@ public:
     MovingBasisFilter() : Filter(make_params()) {}
 
     static std::vector<ParamSpec> make_params() {
-        std::vector<ParamSpec> p = {rank_param("auto"), energy_param()};
-        ParamSpec s;
-        s.name = "half_width";
-        s.type = ParamType::Int;
-        s.default_value = "8";
-        s.min = 1;
-        s.max = 10000;
-        s.description = "window of frames t-h..t+h around each frame (one-sided at the ends)";
-        p.push_back(s);
-        s = ParamSpec();
-        s.name = "sigma";
-        s.type = ParamType::Float;
-        s.default_value = "4";
-        s.min = 1e-3;
-        s.max = 1e6;
-        s.description = "Gaussian sigma of the window weights, in frames";
-        p.push_back(s);
-        s = ParamSpec();
-        s.name = "weights";
-        s.type = ParamType::String;
-        s.default_value = "reconstruction";
-        s.choices = {"reconstruction", "basis", "uniform"};
-        s.description = "where the Gaussian goes: blend overlapping uniform-window reconstructions "
-                        "(reconstruction), weight the window's PCA (basis, the study), or nowhere (uniform)";
-        p.push_back(s);
+        std::vector<ParamSpec> p = {
+            rank_param("auto"),
+            energy_param(),
+            int_param("half_width", "8", 1, 10000, "window of frames t-h..t+h around each frame (one-sided at the ends)"),
+            float_param("sigma", "4", 1e-3, 1e6, "Gaussian sigma of the window weights, in frames"),
+            choice_param("weights", "reconstruction", {"reconstruction", "basis", "uniform"},
+                         "where the Gaussian goes: blend overlapping uniform-window reconstructions (reconstruction), "
+                         "weight the window's PCA (basis, the study), or nowhere (uniform)"),
+        };
         for (auto& c : temporal_common_params()) p.push_back(c);
         return p;
     }

@@ -3,59 +3,24 @@
 namespace statfilter {
 
 std::vector<ParamSpec> temporal_common_params() {
-    std::vector<ParamSpec> p;
-    {
-        ParamSpec s;
-        s.name = "transform";
-        s.type = ParamType::String;
-        s.default_value = "log";  // measured best on every scene and level: docs/methods.md
-        s.choices = {"none", "sqrt", "log"};
-        s.description = "variance-stabilising transform (signed) applied before the temporal basis and undone after";
-        p.push_back(s);
-    }
-    {
-        ParamSpec s;
-        s.name = "nonfinite";
-        s.type = ParamType::String;
-        s.default_value = "error";
-        s.choices = {"error", "repair"};
-        s.description = "NaN/Inf input: fail naming the sample, or replace by the series' finite mean and count";
-        p.push_back(s);
-    }
-    {
-        ParamSpec s;
-        s.name = "shared_basis";
-        s.type = ParamType::Int;
-        s.default_value = "1";
-        s.min = 0;
-        s.max = 1;
-        s.description = "1: all channels share one temporal basis; 0: one basis per channel";
-        p.push_back(s);
-    }
-    {
-        ParamSpec s;
-        s.name = "memory_mb";
-        s.type = ParamType::Float;
-        s.default_value = "512";
-        s.min = 1;
-        s.max = 1e7;
-        s.description = "working memory budget for pixel tiles, in MiB (results do not depend on it)";
-        p.push_back(s);
-    }
-    return p;
+    return {
+        // log measured best on every scene and level: docs/methods.md
+        choice_param("transform", "log", {"none", "sqrt", "log"},
+                     "variance-stabilising transform (signed) applied before the temporal basis and undone after"),
+        choice_param("nonfinite", "error", {"error", "repair"},
+                     "NaN/Inf input: fail naming the sample, or replace by the series' finite mean and count"),
+        int_param("shared_basis", "1", 0, 1, "1: all channels share one temporal basis; 0: one basis per channel"),
+        float_param("memory_mb", "512", 1, 1e7, "working memory budget for pixel tiles, in MiB (results do not depend on it)"),
+    };
 }
 
 ParamSpec rank_param(const char* default_value) {
-    ParamSpec s;
-    s.name = "rank";
-    s.type = ParamType::String;
-    s.default_value = default_value;
-    s.choices = {"auto", "energy"};
+    ParamSpec s = choice_param("rank", default_value, {"auto", "energy"},
+                               "temporal components kept: a count (0 = temporal mean), auto (Gavish-Donoho optimal "
+                               "hard threshold), or energy (see 'energy')");
     s.accepts_integer = true;
     s.min = 0;
     s.max = 1000000;
-    s.description = "temporal components kept: a count (0 = temporal mean), auto (Gavish-Donoho optimal hard "
-                    "threshold), or energy (see 'energy')";
     return s;
 }
 
@@ -81,14 +46,8 @@ std::vector<ChannelSelection> basis_groups(const Shape& shape, bool shared_basis
 namespace statfilter {
 
 ParamSpec energy_param() {
-    ParamSpec s;
-    s.name = "energy";
-    s.type = ParamType::Float;
-    s.default_value = "0.99";
-    s.min = 0;
-    s.max = 1;
-    s.description = "with rank=energy: keep the fewest components holding this fraction of the variance";
-    return s;
+    return float_param("energy", "0.99", 0, 1,
+                       "with rank=energy: keep the fewest components holding this fraction of the variance");
 }
 
 RankChoice choose_rank(const ParamSet& params, const std::vector<double>& eigenvalues, int64_t series, int64_t frames) {

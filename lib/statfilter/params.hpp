@@ -23,6 +23,14 @@ struct ParamSpec {
     std::string choices_text;          // the choices as one comma list (filled by ParamSet)
 };
 
+// Table entries, for filters to declare their parameters in one line each.
+ParamSpec int_param(const std::string& name, const std::string& default_value, double min, double max,
+                    const std::string& description);
+ParamSpec float_param(const std::string& name, const std::string& default_value, double min, double max,
+                      const std::string& description);
+ParamSpec choice_param(const std::string& name, const std::string& default_value, std::vector<std::string> choices,
+                       const std::string& description);
+
 // A value in every representation a caller may ask for.
 struct ParamValue {
     ParamType type = ParamType::Int;
