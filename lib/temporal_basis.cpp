@@ -10,17 +10,6 @@
 
 namespace statfilter {
 
-void prepare_tile(double* tile, int64_t frames, int64_t n, const SeriesPrep& prep, double* means) {
-    if (prep.repair_nonfinite) repair_nonfinite(tile, frames, n);
-    forward_transform(prep.transform, tile, static_cast<size_t>(frames * n));
-    std::fill(means, means + n, 0.0);
-    for (int64_t f = 0; f < frames; ++f)
-        for (int64_t j = 0; j < n; ++j) means[j] += tile[f * n + j];
-    for (int64_t j = 0; j < n; ++j) means[j] /= static_cast<double>(frames);
-    for (int64_t f = 0; f < frames; ++f)
-        for (int64_t j = 0; j < n; ++j) tile[f * n + j] -= means[j];
-}
-
 void symmetric_eigen(int64_t n, std::vector<double>& a, std::vector<double>& w) {
     w.assign(static_cast<size_t>(n), 0.0);
     const lapack_int info =
@@ -32,21 +21,12 @@ void symmetric_eigen(int64_t n, std::vector<double>& a, std::vector<double>& w) 
     for (double& v : w) v = std::max(v, 0.0);  // rounding can leave tiny negatives
 }
 
-void finish_tile(PreparedTile& t, int64_t frames, ChannelSelection channels, const SeriesPrep& prep, Sequence& output) {
-    for (int64_t f = 0; f < frames; ++f)
-        for (int64_t j = 0; j < t.n; ++j) t.tile[f * t.n + j] += t.means[j];
-    inverse_transform(prep.transform, t.tile.data(), t.tile.size());
-    scatter_tile(t.tile.data(), t.range, channels, output);
-}
-
-TemporalBasis compute_temporal_basis(const Sequence& seq, ChannelSelection channels,
-                                     const std::vector<PixelRange>& tiles, const SeriesPrep& prep,
-                                     const ProgressSpan& progress) {
-    const int64_t F = seq.shape().frames;
+TemporalBasis compute_temporal_basis(PreparedSeries& series, const ProgressSpan& progress) {
+    const int64_t F = series.frames();
     TemporalBasis basis;
     basis.frames = F;
     std::vector<double> gram(static_cast<size_t>(F * F), 0.0);
-    for_each_prepared_tile(seq, channels, tiles, prep, progress, [&](PreparedTile& t) {
+    series.read(progress, [&](const PreparedTile& t) {
         // Float inputs squared in double cannot overflow (3.4e38^2 ~ 1e77), so no rescaling is needed.
         cblas_dsyrk(CblasRowMajor, CblasUpper, CblasNoTrans, static_cast<int>(F), static_cast<int>(t.n), 1.0,
                     t.tile.data(), static_cast<int>(t.n), 1.0, gram.data(), static_cast<int>(F));

@@ -18,19 +18,31 @@ std::vector<PixelRange> make_pixel_tiles(const Shape& s, int64_t channels_per_pi
 
 namespace {
 
+// Visits every sample of the tile with its index j in the F x n buffer, one image row segment at a
+// time; where the selected channels of a row segment are contiguous floats it is one tight loop.
 template <class Visit>
 void walk_tile(const Sequence& seq, PixelRange range, ChannelSelection ch, Visit&& visit) {
     const Shape& s = seq.shape();
     const Strides& st = seq.strides();
     const int64_t n = range.size() * ch.count;
-    const char* base = reinterpret_cast<const char*>(seq.data());
+    const bool packed = st.channel == static_cast<int64_t>(sizeof(float)) &&
+                        st.pixel == static_cast<int64_t>(sizeof(float)) * ch.count;
+    char* base = reinterpret_cast<char*>(const_cast<float*>(seq.data()));
     for (int64_t f = 0; f < s.frames; ++f) {
         int64_t j = f * n;
-        for (int64_t p = range.begin; p < range.end; ++p) {
-            const int64_t y = p / s.width, x = p % s.width;
-            const char* pixel = base + f * st.frame + y * st.row + x * st.pixel;
-            for (int64_t c = ch.first; c < ch.first + ch.count; ++c, ++j)
-                visit(const_cast<float*>(reinterpret_cast<const float*>(pixel + c * st.channel)), j);
+        for (int64_t p = range.begin; p < range.end;) {
+            const int64_t y = p / s.width, x0 = p % s.width, count = std::min(s.width - x0, range.end - p);
+            char* row = base + f * st.frame + y * st.row + x0 * st.pixel + ch.first * st.channel;
+            if (packed) {
+                float* run = reinterpret_cast<float*>(row);
+                for (int64_t k = 0; k < count * ch.count; ++k) visit(run + k, j + k);
+                j += count * ch.count;
+            } else {
+                for (int64_t x = 0; x < count; ++x)
+                    for (int64_t c = 0; c < ch.count; ++c, ++j)
+                        visit(reinterpret_cast<float*>(row + x * st.pixel + c * st.channel), j);
+            }
+            p += count;
         }
     }
 }

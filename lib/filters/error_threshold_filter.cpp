@@ -20,21 +20,20 @@ struct CoefficientEnergy {
     cv::Mat tail;
 };
 
-CoefficientEnergy coefficient_energy(const Sequence& input, ChannelSelection group, const std::vector<PixelRange>& tiles,
-                                     const SeriesPrep& prep, const TemporalBasis& basis, int64_t rank,
+CoefficientEnergy coefficient_energy(PreparedSeries& series, const Shape& s, const TemporalBasis& basis, int64_t rank,
                                      const ProgressSpan& progress) {
-    const Shape& s = input.shape();
     const int64_t F = s.frames;
     CoefficientEnergy e;
     for (int64_t i = 0; i < rank; ++i) e.planes.emplace_back(static_cast<int>(s.height), static_cast<int>(s.width), CV_64F, cv::Scalar(0));
     e.tail = cv::Mat(static_cast<int>(s.height), static_cast<int>(s.width), CV_64F, cv::Scalar(0));
     std::vector<double> a;
-    for_each_prepared_tile(input, group, tiles, prep, progress, [&](PreparedTile& t) {
+    const int64_t channels = series.group().count;
+    series.read(progress, [&](const PreparedTile& t) {
         const int64_t n = t.n;
         a.resize(static_cast<size_t>(std::max<int64_t>(rank, 1) * n));
         if (rank > 0) project_onto_basis(basis, rank, t.tile.data(), n, a.data());
         for (int64_t j = 0; j < n; ++j) {
-            const auto p = static_cast<int>(t.range.begin + j / group.count);
+            const auto p = static_cast<int>(t.range.begin + j / channels);
             double total = 0, kept = 0;
             for (int64_t f = 0; f < F; ++f) total += t.tile[f * n + j] * t.tile[f * n + j];
             for (int64_t i = 0; i < rank; ++i) {
@@ -79,12 +78,11 @@ protected:
         double rank_sum = 0;
         for (size_t g = 0; g < groups.size(); ++g) {
             const double share = 1.0 / groups.size(), at = g * share;
-            const auto tiles = make_pixel_tiles(shape, groups[g].count, setup.budget_bytes, 4);
-            const TemporalBasis basis =
-                compute_temporal_basis(input, groups[g], tiles, setup.prep, {progress, at, 0.3 * share, "basis"});
+            PreparedSeries series(input, groups[g], setup.prep, setup.budget_bytes, 4);
+            const TemporalBasis basis = compute_temporal_basis(series, {progress, at, 0.3 * share, "basis"});
             const int64_t useful = max_useful_rank(basis.series, basis.frames);
             const int64_t K = std::min(params().get_int("max_rank"), useful);
-            CoefficientEnergy e = coefficient_energy(input, groups[g], tiles, setup.prep, basis, K,
+            CoefficientEnergy e = coefficient_energy(series, shape, basis, K,
                                                      {progress, at + 0.3 * share, 0.3 * share, "energy"});
             for (auto& plane : e.planes) pool(plane, window);
             pool(e.tail, window);
@@ -102,7 +100,7 @@ protected:
                 rank_sum += static_cast<double>(k);
                 rank_map->at(0, p / shape.width, p % shape.width, static_cast<int64_t>(g)) = static_cast<float>(k);
             }
-            reconstruct_low_rank(input, output, groups[g], tiles, setup.prep, basis, K, &ranks,
+            reconstruct_low_rank(series, output, basis, K, &ranks,
                                   {progress, at + 0.6 * share, 0.4 * share, "reconstruct"});
         }
         for (size_t g = 0; g < groups.size(); ++g)

@@ -12,12 +12,12 @@ void project_onto_basis(const TemporalBasis& basis, int64_t rank, const double* 
                 basis.vectors.data(), F, tile, static_cast<int>(n), 0.0, coefficients, static_cast<int>(n));
 }
 
-void reconstruct_low_rank(const Sequence& input, Sequence& output, ChannelSelection group,
-                          const std::vector<PixelRange>& tiles, const SeriesPrep& prep, const TemporalBasis& basis,
-                          int64_t rank, const std::vector<int64_t>* pixel_ranks, const ProgressSpan& progress) {
+void reconstruct_low_rank(PreparedSeries& series, Sequence& output, const TemporalBasis& basis, int64_t rank,
+                          const std::vector<int64_t>* pixel_ranks, const ProgressSpan& progress) {
     const int64_t F = basis.frames;
+    const int64_t channels = series.group().count;
     std::vector<double> a;
-    for_each_prepared_tile(input, group, tiles, prep, progress, [&](PreparedTile& t) {
+    series.consume(progress, [&](PreparedTile& t) {
         const int64_t n = t.n;
         if (rank > 0) {
             // Two thin products, A = V_k^T X then X = V_k A, instead of one F x F operator.
@@ -25,14 +25,14 @@ void reconstruct_low_rank(const Sequence& input, Sequence& output, ChannelSelect
             project_onto_basis(basis, rank, t.tile.data(), n, a.data());
             if (pixel_ranks)
                 for (int64_t j = 0; j < n; ++j)
-                    for (int64_t i = (*pixel_ranks)[t.range.begin + j / group.count]; i < rank; ++i) a[i * n + j] = 0;
+                    for (int64_t i = (*pixel_ranks)[t.range.begin + j / channels]; i < rank; ++i) a[i * n + j] = 0;
             cblas_dgemm(CblasRowMajor, CblasNoTrans, CblasNoTrans, static_cast<int>(F), static_cast<int>(n),
                         static_cast<int>(rank), 1.0, basis.vectors.data(), static_cast<int>(F), a.data(),
                         static_cast<int>(n), 0.0, t.tile.data(), static_cast<int>(n));
         } else {
             std::fill(t.tile.begin(), t.tile.end(), 0.0);
         }
-        finish_tile(t, F, group, prep, output);
+        series.finish(t, output);
     });
 }
 

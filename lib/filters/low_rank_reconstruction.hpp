@@ -11,8 +11,8 @@ void project_onto_basis(const TemporalBasis& basis, int64_t rank, const double* 
 
 // Writes mu + V_k V_k^T (x - mu) for every series of the group. With pixel_ranks, pixel p keeps only
 // its first pixel_ranks[p] (<= rank) components.
-void reconstruct_low_rank(const Sequence& input, Sequence& output, ChannelSelection group,
-                          const std::vector<PixelRange>& tiles, const SeriesPrep& prep, const TemporalBasis& basis,
-                          int64_t rank, const std::vector<int64_t>* pixel_ranks, const ProgressSpan& progress);
+// The last pass over the series.
+void reconstruct_low_rank(PreparedSeries& series, Sequence& output, const TemporalBasis& basis, int64_t rank,
+                          const std::vector<int64_t>* pixel_ranks, const ProgressSpan& progress);
 
 }  // namespace statfilter

@@ -71,13 +71,12 @@ std::vector<double> window_reconstruction(const std::vector<double>& band, int64
 namespace {
 
 // Inner products <x_i, x_j> of centred series for |i - j| <= lag, accumulated over tiles (F x F, banded).
-std::vector<double> frame_inner_product_band(const Sequence& input, ChannelSelection group,
-                                             const std::vector<PixelRange>& tiles, const SeriesPrep& prep, int64_t lag,
-                                             int64_t* series, const ProgressSpan& progress) {
-    const int64_t F = input.shape().frames;
+std::vector<double> frame_inner_product_band(PreparedSeries& prepared, int64_t lag, int64_t* series,
+                                             const ProgressSpan& progress) {
+    const int64_t F = prepared.frames();
     std::vector<double> band(static_cast<size_t>(F * F), 0.0);
     *series = 0;
-    for_each_prepared_tile(input, group, tiles, prep, progress, [&](PreparedTile& t) {
+    prepared.read(progress, [&](const PreparedTile& t) {
         for (int64_t i = 0; i < F; ++i)
             for (int64_t j = i; j <= std::min(F - 1, i + lag); ++j)
                 band[i * F + j] += cblas_ddot(static_cast<int>(t.n), &t.tile[i * t.n], 1, &t.tile[j * t.n], 1);
@@ -89,12 +88,11 @@ std::vector<double> frame_inner_product_band(const Sequence& input, ChannelSelec
 }
 
 // out = M x for every series, M banded with half-bandwidth `lag`.
-void apply_temporal_operator(const Sequence& input, Sequence& output, ChannelSelection group,
-                             const std::vector<PixelRange>& tiles, const SeriesPrep& prep, const std::vector<double>& M,
-                             int64_t lag, const ProgressSpan& progress) {
-    const int64_t F = input.shape().frames;
+void apply_temporal_operator(PreparedSeries& prepared, Sequence& output, const std::vector<double>& M, int64_t lag,
+                             const ProgressSpan& progress) {
+    const int64_t F = prepared.frames();
     std::vector<double> result;
-    for_each_prepared_tile(input, group, tiles, prep, progress, [&](PreparedTile& t) {
+    prepared.consume(progress, [&](PreparedTile& t) {
         const int64_t n = t.n;
         result.assign(static_cast<size_t>(F * n), 0.0);
         for (int64_t i = 0; i < F; ++i)
@@ -102,7 +100,7 @@ void apply_temporal_operator(const Sequence& input, Sequence& output, ChannelSel
                 if (M[i * F + j] != 0.0)
                     cblas_daxpy(static_cast<int>(n), M[i * F + j], &t.tile[j * n], 1, &result[i * n], 1);
         t.tile.swap(result);  // M keeps constants (M 1 = 1), so the means add back as usual
-        finish_tile(t, F, group, prep, output);
+        prepared.finish(t, output);
     });
 }
 
@@ -141,11 +139,11 @@ protected:
         int64_t windows = 0;
         for (size_t g = 0; g < groups.size(); ++g) {
             const double share = 1.0 / groups.size(), at = g * share;
-            const auto tiles = make_pixel_tiles(shape, groups[g].count, setup.budget_bytes, 3);
+            PreparedSeries prepared(input, groups[g], setup.prep, setup.budget_bytes, 3);
             // "reconstruction" blends windows centred up to h away, so its operator reaches 2h.
             const int64_t lag = mode == "reconstruction" ? 2 * h : h;
             int64_t series = 0;
-            const auto band = frame_inner_product_band(input, groups[g], tiles, setup.prep, 2 * h, &series,
+            const auto band = frame_inner_product_band(prepared, 2 * h, &series,
                                                        {progress, at, 0.4 * share, "band"});
             std::vector<double> M(static_cast<size_t>(F * F), 0.0), blend(static_cast<size_t>(F), 0.0);
             for (int64_t s = 0; s < F; ++s) {
@@ -168,7 +166,7 @@ protected:
             if (mode == "reconstruction")
                 for (int64_t t = 0; t < F; ++t)
                     for (int64_t j = 0; j < F; ++j) M[t * F + j] /= blend[t];
-            apply_temporal_operator(input, output, groups[g], tiles, setup.prep, M, lag,
+            apply_temporal_operator(prepared, output, M, lag,
                                     {progress, at + 0.4 * share, 0.6 * share, "reconstruct"});
         }
         mutable_results().set("mean_rank", rank_sum / static_cast<double>(windows));

@@ -29,11 +29,10 @@ protected:
         double noise = 0;
         for (size_t g = 0; g < groups.size(); ++g) {
             const double share = 1.0 / groups.size();
-            const auto tiles = make_pixel_tiles(shape, groups[g].count, setup.budget_bytes, 3);
-            const TemporalBasis basis = compute_temporal_basis(
-                input, groups[g], tiles, setup.prep, {progress, g * share, 0.5 * share, "basis"});
+            PreparedSeries series(input, groups[g], setup.prep, setup.budget_bytes, 3);
+            const TemporalBasis basis = compute_temporal_basis(series, {progress, g * share, 0.5 * share, "basis"});
             const RankChoice rank = choose_rank(params(), basis.eigenvalues, basis.series, basis.frames);
-            reconstruct_low_rank(input, output, groups[g], tiles, setup.prep, basis, rank.rank, nullptr,
+            reconstruct_low_rank(series, output, basis, rank.rank, nullptr,
                                  {progress, (g + 0.5) * share, 0.5 * share, "reconstruct"});
             ranks += (ranks.empty() ? "" : ",") + std::to_string(rank.rank);
             noise = std::max(noise, rank.noise_sigma);

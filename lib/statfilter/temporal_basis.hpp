@@ -4,50 +4,9 @@
 #include <cstdint>
 #include <vector>
 
-#include "statfilter/nonfinite.hpp"
-#include "statfilter/progress.hpp"
-#include "statfilter/time_series_tiles.hpp"
-#include "statfilter/value_transform.hpp"
+#include "statfilter/prepared_series.hpp"
 
 namespace statfilter {
-
-// How a gathered tile becomes the centred series the basis describes.
-struct SeriesPrep {
-    ValueTransform transform = ValueTransform::None;
-    bool repair_nonfinite = false;
-};
-
-// Repairs and transforms a gathered F x n tile, then centres every series; its means go to means[n].
-void prepare_tile(double* tile, int64_t frames, int64_t n, const SeriesPrep& prep, double* means);
-
-// One gathered, prepared tile: tile[f * n + j] is series j in frame f, centred; means[j] its mean.
-struct PreparedTile {
-    PixelRange range;
-    int64_t n = 0;
-    std::vector<double> tile, means;
-};
-
-// Gathers and prepares each tile in turn, hands it to visit(PreparedTile&), and reports progress.
-template <class Visit>
-void for_each_prepared_tile(const Sequence& seq, ChannelSelection channels, const std::vector<PixelRange>& tiles,
-                            const SeriesPrep& prep, const ProgressSpan& progress, Visit&& visit) {
-    const int64_t F = seq.shape().frames;
-    PreparedTile t;
-    for (size_t i = 0; i < tiles.size(); ++i) {
-        progress.report(static_cast<double>(i) / tiles.size());
-        t.range = tiles[i];
-        t.n = tiles[i].size() * channels.count;
-        t.tile.resize(static_cast<size_t>(F * t.n));
-        t.means.resize(static_cast<size_t>(t.n));
-        gather_tile(seq, t.range, channels, t.tile.data());
-        prepare_tile(t.tile.data(), F, t.n, prep, t.means.data());
-        visit(t);
-    }
-    progress.report(1.0);
-}
-
-// Adds the means back, undoes the transform and writes the tile's series to the output.
-void finish_tile(PreparedTile& t, int64_t frames, ChannelSelection channels, const SeriesPrep& prep, Sequence& output);
 
 struct TemporalBasis {
     int64_t frames = 0;
@@ -58,9 +17,7 @@ struct TemporalBasis {
 };
 
 // Accumulates the Gram matrix over the tiles and eigendecomposes it (LAPACK dsyevd).
-TemporalBasis compute_temporal_basis(const Sequence& seq, ChannelSelection channels,
-                                     const std::vector<PixelRange>& tiles, const SeriesPrep& prep,
-                                     const ProgressSpan& progress);
+TemporalBasis compute_temporal_basis(PreparedSeries& series, const ProgressSpan& progress);
 
 // Eigendecomposition of a symmetric F x F matrix (row-major, upper triangle used): descending.
 void symmetric_eigen(int64_t n, std::vector<double>& matrix, std::vector<double>& eigenvalues);

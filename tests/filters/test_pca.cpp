@@ -115,6 +115,24 @@ TEST(Pca, TiledResultEqualsUntiled) {
     EXPECT_LT(max_abs_diff(*whole.output, *tiled.output), 1e-6);
 }
 
+TEST(Pca, StridedInputAndOutputGiveTheSameResult) {
+    LowRank g;
+    g.noise = 0.1;
+    const auto noisy = make_low_rank(g);
+    const Shape& s = noisy->shape();
+    // Channel-planar buffers (all R, then all G, ...) with every other pixel skipped.
+    const Strides planar{s.frames * s.height * s.width * 2 * 4, 2 * 4, s.width * 2 * 4, s.height * s.width * 2 * 4};
+    std::vector<float> in_buffer(static_cast<size_t>(s.samples() * 2)), out_buffer(in_buffer.size(), -1.0f);
+    Sequence in(in_buffer.data(), s, planar), out(out_buffer.data(), s, planar);
+    in.copy_samples_from(*noisy);
+    for (const char* name : {"pca", "error-threshold", "moving-basis"}) {
+        const FilterRun contiguous = run_filter(name, *noisy);
+        auto filter = create_filter(name);
+        filter->execute(in, out, Progress());
+        EXPECT_EQ(max_abs_diff(out, *contiguous.output), 0.0) << name;
+    }
+}
+
 TEST(Pca, EnergyRank) {
     LowRank g;
     const auto clean = make_low_rank(g);
