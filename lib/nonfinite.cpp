@@ -15,6 +15,12 @@ NonFinitePolicy parse_nonfinite_policy(const std::string& name) {
 
 int64_t check_nonfinite(const Sequence& seq, NonFinitePolicy policy) {
     const Shape& s = seq.shape();
+    if (seq.is_contiguous()) {  // the usual case: one branch-free sweep, the detailed walk only if needed
+        const float* data = seq.data();
+        bool all_finite = true;
+        for (int64_t i = 0; i < s.samples(); ++i) all_finite &= std::isfinite(data[i]);
+        if (all_finite) return 0;
+    }
     int64_t count = 0;
     for (int64_t f = 0; f < s.frames; ++f)
         for (int64_t y = 0; y < s.height; ++y)

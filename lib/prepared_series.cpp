@@ -6,10 +6,13 @@ namespace statfilter {
 
 void prepare_tile(double* tile, int64_t frames, int64_t n, const SeriesPrep& prep, double* means) {
     if (prep.repair_nonfinite) repair_nonfinite(tile, frames, n);
-    forward_transform(prep.transform, tile, static_cast<size_t>(frames * n));
+    // The tile is larger than the caches: transform a frame's row while it is summed into the means.
     std::fill(means, means + n, 0.0);
-    for (int64_t f = 0; f < frames; ++f)
-        for (int64_t j = 0; j < n; ++j) means[j] += tile[f * n + j];
+    for (int64_t f = 0; f < frames; ++f) {
+        double* row = tile + f * n;
+        forward_transform(prep.transform, row, static_cast<size_t>(n));
+        for (int64_t j = 0; j < n; ++j) means[j] += row[j];
+    }
     for (int64_t j = 0; j < n; ++j) means[j] /= static_cast<double>(frames);
     for (int64_t f = 0; f < frames; ++f)
         for (int64_t j = 0; j < n; ++j) tile[f * n + j] -= means[j];
@@ -32,9 +35,11 @@ void PreparedSeries::prepare(PixelRange range, PreparedTile& t) const {
 
 void PreparedSeries::finish(PreparedTile& t, Sequence& output) const {
     const int64_t F = frames();
-    for (int64_t f = 0; f < F; ++f)
-        for (int64_t j = 0; j < t.n; ++j) t.tile[f * t.n + j] += t.means[j];
-    inverse_transform(prep_.transform, t.tile.data(), t.tile.size());
+    for (int64_t f = 0; f < F; ++f) {
+        double* row = t.tile.data() + f * t.n;
+        for (int64_t j = 0; j < t.n; ++j) row[j] += t.means[j];
+        inverse_transform(prep_.transform, row, static_cast<size_t>(t.n));
+    }
     scatter_tile(t.tile.data(), t.range, group_, output);
 }
 
