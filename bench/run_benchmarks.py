@@ -169,7 +169,7 @@ def main():
     if not args.data.is_dir():
         args.data = ROOT / "sample"
     configs = sweeps(args.quick)
-    repeats = 1 if args.quick else 3
+    repeats = 1 if args.quick else 5
     rows = []
     with tempfile.TemporaryDirectory() as tmp:
         work = Path(tmp)
