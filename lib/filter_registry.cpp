@@ -14,6 +14,12 @@ const std::vector<FilterEntry>& filter_registry() {
          [] { return make_error_threshold_filter(); }},
         {"moving-basis", "temporal PCA over a sliding window of frames around each frame",
          [] { return make_moving_basis_filter(); }},
+        {"diffusion", "single-frame anisotropic diffusion on HDR floats, frames in parallel",
+         [] { return make_diffusion_filter(); }},
+        {"motion", "motion maps only: alpha (global, 1 = stationary) and beta (per frame, 1 = moving) as image results",
+         [] { return make_motion_filter(); }},
+        {"hybrid", "temporal PCA where still, moving basis or single-frame diffusion where things move",
+         [] { return make_hybrid_filter(); }},
     };
     return registry;
 }

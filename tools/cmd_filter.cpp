@@ -3,6 +3,7 @@
 #include <cstdio>
 
 #include "cli_common.hpp"
+#include "cli_images.hpp"
 #include "cli_json.hpp"
 #include "commands.hpp"
 
@@ -58,6 +59,7 @@ int run_filter(const Args& args, const std::string& method) {
     filter.check(sf_filter_set_progress(filter.get(), &ProgressLine::callback, &progress));
     filter.check(sf_filter_execute(filter.get(), input.get(), output.get()));
     write_output(args, output, out, progress);
+    if (args.has("save")) save_image_results(filter, args.option("save"), progress);
     progress.finish();
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 
@@ -106,12 +108,13 @@ int cmd_copy(int argc, char** argv) {
 }
 
 int cmd_denoise(int argc, char** argv) {
-    const Args args(argc, argv, 2, kFlags, merged({kInputOptions, kOutputOptions, {"method"}}));
+    const Args args(argc, argv, 2, kFlags, merged({kInputOptions, kOutputOptions, {"method", "save"}}));
     if (args.flag("help")) {
         std::printf("usage: statfilter denoise IN OUT [--method NAME] [--PARAM VALUE ...] [options]\n\n"
                     "Filters a frame sequence. Methods and their parameters (from the library):\n");
         for (int i = 0; i < sf_filter_count(); ++i) print_parameters(sf_filter_name(i));
-        std::printf("\n%s\n%s  --json                  report on stdout\n  --quiet, -q\n", kInputHelp, kOutputHelp);
+        std::printf("\n%s\n%s  --save NAME=PATH[,...]  write image results, e.g. rank_map=ranks.exr (PNG: false colour)\n"
+                    "  --json                  report on stdout\n  --quiet, -q\n", kInputHelp, kOutputHelp);
         return 0;
     }
     return run_filter(args, args.option("method", kDefaultMethod));

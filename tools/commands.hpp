@@ -3,12 +3,14 @@
 
 namespace statfilter_cli {
 
-// The method `denoise` runs when none is given.
-inline constexpr const char* kDefaultMethod = "pca";
+// The method `denoise` runs when none is given: the lowest error over the benchmark's scenes and
+// levels (docs/benchmarks.md).
+inline constexpr const char* kDefaultMethod = "error-threshold";
 
 int cmd_info(int argc, char** argv);
 int cmd_copy(int argc, char** argv);
 int cmd_denoise(int argc, char** argv);
 int cmd_compare(int argc, char** argv);
+int cmd_motion(int argc, char** argv);
 
 }  // namespace statfilter_cli

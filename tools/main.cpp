@@ -19,6 +19,7 @@ const char* const kUsage =
     "  info PATTERN        frames, size, channels, layers and statistics of a sequence\n"
     "  copy IN OUT         read and write a sequence unchanged (checks the whole path)\n"
     "  denoise IN OUT      filter a sequence (--method, parameters: statfilter denoise --help)\n"
+    "  motion IN           motion maps: alpha (1 = still) and beta (per frame, 1 = moving)\n"
     "  compare TEST REF    error of a sequence against a reference (relMSE, PSNR, flicker)\n"
     "  version             print the library version\n"
     "\n"
@@ -39,6 +40,7 @@ int main(int argc, char** argv) {
         if (command == "copy") return cmd_copy(argc, argv);
         if (command == "denoise") return cmd_denoise(argc, argv);
         if (command == "compare") return cmd_compare(argc, argv);
+        if (command == "motion") return cmd_motion(argc, argv);
         if (command == "version" || command == "--version") {
             std::printf("statfilter %s\n", sf_version_string());
             return 0;

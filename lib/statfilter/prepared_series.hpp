@@ -35,6 +35,7 @@ public:
                    int buffers_per_tile);
 
     int64_t frames() const { return input_.shape().frames; }
+    const Shape& shape() const { return input_.shape(); }
     ChannelSelection group() const { return group_; }
 
     // A pass that only reads the tiles: visit(const PreparedTile&).

@@ -1,0 +1,91 @@
+#include "statfilter/anisotropic_diffusion.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include "statfilter/error.hpp"
+
+namespace statfilter {
+
+DiffusionFlux parse_diffusion_flux(const std::string& name) {
+    if (name == "study") return DiffusionFlux::Study;
+    if (name == "perona-malik") return DiffusionFlux::PeronaMalik;
+    throw Error(Status::InvalidArgument, "unknown flux '" + name + "' (study, perona-malik)");
+}
+
+namespace {
+
+double conductance(DiffusionFlux flux, double gradient2, double inv_k2) {
+    const double r = gradient2 * inv_k2;
+    return flux == DiffusionFlux::Study ? 1.0 / std::sqrt(1.0 + r) : std::exp(-r);
+}
+
+// The robust spread of neighbour differences: 1.4826 x the median of |u(x+1) - u(x)| over the frame.
+double gradient_noise(const std::vector<double>& u, int64_t width, int64_t height, int64_t channels) {
+    std::vector<double> d;
+    d.reserve(static_cast<size_t>(width * height));
+    for (int64_t y = 0; y < height; ++y)
+        for (int64_t x = 0; x + 1 < width; ++x) {
+            double g2 = 0;
+            for (int64_t c = 0; c < channels; ++c) {
+                const double diff = u[(y * width + x + 1) * channels + c] - u[(y * width + x) * channels + c];
+                g2 += diff * diff;
+            }
+            d.push_back(std::sqrt(g2 / channels));
+        }
+    if (d.empty()) return 0;
+    std::nth_element(d.begin(), d.begin() + d.size() / 2, d.end());
+    return 1.4826 * d[d.size() / 2];
+}
+
+}  // namespace
+
+void diffuse_frame(float* pixels, int64_t width, int64_t height, int64_t channels, const DiffusionOptions& o) {
+    if (!(o.dt > 0 && o.dt <= 0.25))
+        throw Error(Status::InvalidArgument, "diffusion step dt must be in (0, 0.25] for a stable explicit scheme");
+    if (!(o.k > 0)) throw Error(Status::InvalidArgument, "diffusion K must be > 0");
+    const int64_t n = width * height * channels;
+    std::vector<double> u(pixels, pixels + n), next(static_cast<size_t>(n));
+    double eps = 0;
+    if (o.log_domain) {
+        double sum = 0;
+        int64_t finite = 0;
+        for (double v : u)
+            if (std::isfinite(v)) sum += std::fabs(v), ++finite;
+        eps = finite && sum > 0 ? o.epsilon * sum / finite : 1.0;
+        for (double& v : u) v = std::copysign(std::log1p(std::fabs(v) / eps), v);
+    }
+    const int64_t row = width * channels;
+    const double k = o.k * gradient_noise(u, width, height, channels);
+    if (!(k > 0)) {  // a flat frame: nothing to diffuse
+        return;
+    }
+    const double inv_k2 = 1.0 / (k * k);
+    for (int it = 0; it < o.iterations; ++it) {
+        for (int64_t y = 0; y < height; ++y)
+            for (int64_t x = 0; x < width; ++x) {
+                const double* c = &u[y * row + x * channels];
+                double* out = &next[y * row + x * channels];
+                for (int64_t ch = 0; ch < channels; ++ch) out[ch] = c[ch];
+                // Neumann borders: a missing neighbour contributes no flux.
+                const double* neighbours[4] = {x > 0 ? c - channels : nullptr, x + 1 < width ? c + channels : nullptr,
+                                               y > 0 ? c - row : nullptr, y + 1 < height ? c + row : nullptr};
+                for (const double* nb : neighbours) {
+                    if (!nb) continue;
+                    double g2 = 0;
+                    for (int64_t ch = 0; ch < channels; ++ch) g2 += (nb[ch] - c[ch]) * (nb[ch] - c[ch]);
+                    const double w = o.dt * conductance(o.flux, g2 / channels, inv_k2);
+                    for (int64_t ch = 0; ch < channels; ++ch) out[ch] += w * (nb[ch] - c[ch]);
+                }
+            }
+        u.swap(next);
+    }
+    constexpr double lim = 3.4028234663852886e38;
+    for (int64_t i = 0; i < n; ++i) {
+        double v = o.log_domain ? std::copysign(eps * std::expm1(std::fabs(u[i])), u[i]) : u[i];
+        pixels[i] = static_cast<float>(std::clamp(v, -lim, lim));
+    }
+}
+
+}  // namespace statfilter

@@ -1,0 +1,168 @@
+// The study's hybrid: I = I_T * alpha + I_MB * (1 - alpha) * s + I_SF * (1 - alpha) * (1 - s).
+// I_T is a global temporal filter, I_MB the moving basis, I_SF single-frame diffusion; alpha is the
+// global motion map and s comes from the local motion mask beta. The study's slide multiplies I_MB
+// by beta (reading "literal"); the other reading gives the moving-right-now pixels to the
+// single-frame filter (reading "safe", s = 1 - beta). Both are here, measured in docs/methods.md.
+// I_MB and I_SF are computed only where their weight is non-zero: the moving basis on a compact
+// sequence of just those pixels, diffusion on each frame's bounding box of them (plus a halo as wide
+// as the diffusion reaches), so a still scene costs about what the temporal filter costs.
+#include <algorithm>
+
+#include "filters/builtin_filters.hpp"
+#include "filters/motion_analysis.hpp"
+#include "filters/temporal_params.hpp"
+#include "statfilter/anisotropic_diffusion.hpp"
+#include "statfilter/error.hpp"
+#include "statfilter/filter_registry.hpp"
+
+namespace statfilter {
+namespace {
+
+// Copies the temporal parameters this filter shares with a sub-filter.
+void pass_common(const ParamSet& from, Filter& to) {
+    for (const char* name : {"transform", "nonfinite", "shared_basis", "memory_mb"})
+        to.params().set_string(name, from.get_string(name));
+}
+
+class HybridFilter final : public Filter {
+public:
+    HybridFilter() : Filter(make_params()) {}
+
+    static std::vector<ParamSpec> make_params() {
+        std::vector<ParamSpec> p = {
+            choice_param("temporal", "error-threshold", {"error-threshold", "pca"},
+                         "the global temporal filter used where alpha says still"),
+            choice_param("reading", "safe", {"safe", "literal"},
+                         "safe: moving basis where no local motion now, diffusion where there is; "
+                         "literal (the study's slide): moving basis where beta says motion"),
+            int_param("mb_half_width", "8", 1, 10000, "moving basis: window half-width in frames"),
+        };
+        for (auto& c : motion_params()) p.push_back(c);
+        for (auto& c : diffusion_params()) p.push_back(c);
+        for (auto& c : temporal_common_params()) p.push_back(c);
+        return p;
+    }
+
+protected:
+    void run(const Sequence& input, Sequence& output, const Progress& progress) override {
+        const Shape& s = input.shape();
+        const MotionMaps maps = compute_motion(input, params(), {progress, 0.0, 0.3, "motion"});
+
+        auto temporal = create_filter(params().get_string("temporal"));
+        pass_common(params(), *temporal);
+        Sequence base(s);
+        temporal->execute(input, base, Progress([&](double f, const char*) {
+            progress.report(0.3 + 0.3 * f, "temporal");
+            return true;
+        }));
+
+        // Weights of the moving basis and of diffusion per pixel and frame.
+        const bool literal = params().get_string("reading") == "literal";
+        const int64_t P = s.pixels();
+        std::vector<float> w_mb(static_cast<size_t>(s.frames * P)), w_sf(w_mb.size());
+        std::vector<int64_t> mb_pixels;
+        for (int64_t p = 0; p < P; ++p) {
+            const float moving = 1.0f - maps.alpha->at(0, p / s.width, p % s.width, 0);
+            bool needs_mb = false;
+            for (int64_t f = 0; f < s.frames; ++f) {
+                const float beta = maps.beta->at(f, p / s.width, p % s.width, 0);
+                const float safe = literal ? beta : 1.0f - beta;
+                w_mb[f * P + p] = moving * safe;
+                w_sf[f * P + p] = moving * (1.0f - safe);
+                needs_mb = needs_mb || w_mb[f * P + p] > 0;
+            }
+            if (needs_mb) mb_pixels.push_back(p);
+        }
+        output.copy_samples_from(base);
+        const auto mb = moving_basis_on(input, mb_pixels, progress);
+        const double sf_fraction = blend_diffusion(input, w_sf, output, progress);
+        for (size_t i = 0; i < mb_pixels.size(); ++i) {
+            const int64_t p = mb_pixels[i], y = p / s.width, x = p % s.width;
+            for (int64_t f = 0; f < s.frames; ++f) {
+                const float w = w_mb[f * P + p];
+                for (int64_t c = 0; c < s.channels; ++c)
+                    output.at(f, y, x, c) += w * (mb->at(f, 0, static_cast<int64_t>(i), c) - base.at(f, y, x, c));
+            }
+        }
+        mutable_results().set("motion_fraction", 1.0 - mean_of_map(*maps.alpha));
+        mutable_results().set("beta_source", maps.beta_source);
+        mutable_results().set("moving_basis_fraction", static_cast<double>(mb_pixels.size()) / P);
+        mutable_results().set("diffusion_fraction", sf_fraction);
+        for (const auto& name : temporal->results().names())
+            if (name == "rank" || name == "mean_rank") mutable_results().set("temporal_" + name, temporal->results().get_string(name));
+        mutable_results().set_image("alpha", maps.alpha);
+        mutable_results().set_image("beta", maps.beta);
+        progress.report(1.0, "hybrid");
+    }
+
+private:
+    // The moving basis over only the listed pixels, as a compact F x 1 x N sequence.
+    std::unique_ptr<Sequence> moving_basis_on(const Sequence& input, const std::vector<int64_t>& pixels,
+                                              const Progress& progress) {
+        const Shape& s = input.shape();
+        if (pixels.empty()) return nullptr;
+        Sequence compact(Shape{s.frames, 1, static_cast<int64_t>(pixels.size()), s.channels});
+        for (size_t i = 0; i < pixels.size(); ++i)
+            for (int64_t f = 0; f < s.frames; ++f)
+                for (int64_t c = 0; c < s.channels; ++c)
+                    compact.at(f, 0, static_cast<int64_t>(i), c) = input.at(f, pixels[i] / s.width, pixels[i] % s.width, c);
+        auto mb = create_filter("moving-basis");
+        pass_common(params(), *mb);
+        mb->params().set_int("half_width", params().get_int("mb_half_width"));
+        mb->params().set_float("sigma", params().get_int("mb_half_width") / 2.0);
+        auto out = std::make_unique<Sequence>(compact.shape());
+        mb->execute(compact, *out, Progress([&](double f, const char*) {
+            progress.report(0.6 + 0.2 * f, "moving basis");
+            return true;
+        }));
+        return out;
+    }
+
+    // Diffuses each frame's bounding box of pixels with a diffusion weight (plus a halo the diffusion
+    // cannot see past) and blends it in; returns the share of pixel-frames diffused.
+    double blend_diffusion(const Sequence& input, const std::vector<float>& w_sf, Sequence& output,
+                           const Progress& progress) {
+        const Shape& s = input.shape();
+        const int64_t P = s.pixels();
+        const DiffusionOptions options = diffusion_options(params());
+        const int64_t halo = options.iterations;
+        int64_t touched = 0;
+        std::vector<float> crop;
+        for (int64_t f = 0; f < s.frames; ++f) {
+            progress.report(0.8 + 0.2 * f / s.frames, "diffusion");
+            int64_t x0 = s.width, y0 = s.height, x1 = -1, y1 = -1;
+            for (int64_t p = 0; p < P; ++p)
+                if (w_sf[f * P + p] > 0) {
+                    x0 = std::min(x0, p % s.width), x1 = std::max(x1, p % s.width);
+                    y0 = std::min(y0, p / s.width), y1 = std::max(y1, p / s.width);
+                }
+            if (x1 < 0) continue;
+            const int64_t cx0 = std::max<int64_t>(0, x0 - halo), cy0 = std::max<int64_t>(0, y0 - halo);
+            const int64_t cx1 = std::min(s.width - 1, x1 + halo), cy1 = std::min(s.height - 1, y1 + halo);
+            const int64_t cw = cx1 - cx0 + 1, ch = cy1 - cy0 + 1;
+            touched += cw * ch;
+            crop.resize(static_cast<size_t>(cw * ch * s.channels));
+            for (int64_t y = 0; y < ch; ++y)
+                for (int64_t x = 0; x < cw; ++x)
+                    for (int64_t c = 0; c < s.channels; ++c)
+                        crop[(y * cw + x) * s.channels + c] = input.at(f, cy0 + y, cx0 + x, c);
+            diffuse_frame(crop.data(), cw, ch, s.channels, options);
+            for (int64_t y = y0; y <= y1; ++y)
+                for (int64_t x = x0; x <= x1; ++x) {
+                    const float w = w_sf[f * P + y * s.width + x];
+                    if (w <= 0) continue;
+                    for (int64_t c = 0; c < s.channels; ++c) {
+                        float& o = output.at(f, y, x, c);
+                        o += w * (crop[((y - cy0) * cw + (x - cx0)) * s.channels + c] - o);
+                    }
+                }
+        }
+        return static_cast<double>(touched) / static_cast<double>(s.frames * P);
+    }
+};
+
+}  // namespace
+
+std::unique_ptr<Filter> make_hybrid_filter() { return std::make_unique<HybridFilter>(); }
+
+}  // namespace statfilter

@@ -1,0 +1,90 @@
+#include "filters/motion_analysis.hpp"
+
+#include "filters/temporal_params.hpp"
+#include "statfilter/error.hpp"
+#include "statfilter/frame_pattern.hpp"
+#include "statfilter/sequence_io.hpp"
+
+namespace statfilter {
+
+std::vector<ParamSpec> motion_params() {
+    return {
+        int_param("components", "5", 1, 1000, "leading temporal components whose energy marks global motion (the study: 5)"),
+        choice_param("global_light", "ignore", {"ignore", "keep"},
+                     "ignore: remove what a global light change puts into the components before measuring motion"),
+        float_param("alpha_low", "2", 0, 1e9, "component energy (in noise units) below which a pixel is stationary"),
+        float_param("alpha_high", "8", 0, 1e9, "component energy (in noise units) above which a pixel is moving"),
+        int_param("alpha_window", "5", 1, 255, "side of the box the component energy is averaged over"),
+        float_param("z_threshold", "2.5", 0, 1e6, "local motion: robust z-score (window-averaged) above which a pixel moves"),
+        int_param("z_window", "5", 1, 255, "local motion: side of the box the squared z-scores are averaged over"),
+        int_param("dilate", "2", 0, 255, "local motion: dilation of the mask, in pixels"),
+        choice_param("beta_source", "auto", {"auto", "zscore", "aux"},
+                     "local motion from z-scores of the input, from the albedo/normal passes, or auto (the passes if given)"),
+        ParamSpec{"albedo", ParamType::String, "", "albedo pass: a file pattern (frames as the input)", 0, 0, {}, false, ""},
+        ParamSpec{"normal", ParamType::String, "", "normal pass: a file pattern (frames as the input)", 0, 0, {}, false, ""},
+        float_param("aux_threshold", "0.05", 0, 1e9, "a pass value departing this far from its temporal median means motion"),
+    };
+}
+
+namespace {
+
+std::shared_ptr<Sequence> aux_motion(const Sequence& input, const std::string& pattern, double threshold, int dilate) {
+    ReadOptions ro;
+    ro.frames = format_frame_list(input.frame_numbers());
+    auto aux = read_sequence(pattern, ro);
+    const Shape& a = aux->shape();
+    if (a.frames != input.shape().frames || a.width != input.shape().width || a.height != input.shape().height)
+        throw Error(Status::InvalidArgument, "pass '" + pattern + "' is " + to_string(a) + ", the input " +
+                                                 to_string(input.shape()));
+    return local_motion_from_aux(*aux, threshold, dilate);
+}
+
+}  // namespace
+
+MotionMaps compute_motion(const Sequence& input, const ParamSet& params, const ProgressSpan& progress) {
+    const TemporalSetup setup = temporal_setup(params);
+    check_nonfinite(input, setup.nonfinite);
+    PreparedSeries series(input, ChannelSelection::all(input.shape()), setup.prep, setup.budget_bytes, 2);
+    const TemporalBasis basis = compute_temporal_basis(series, {progress.progress, progress.start, progress.span / 3, "motion"});
+    const double sigma = gavish_donoho_rank(basis.eigenvalues, basis.series, basis.frames).noise_sigma;
+    GlobalMotionOptions g;
+    g.components = static_cast<int>(params.get_int("components"));
+    g.ignore_global_light = params.get_string("global_light") == "ignore";
+    g.low = params.get_float("alpha_low");
+    g.high = params.get_float("alpha_high");
+    g.window = static_cast<int>(params.get_int("alpha_window"));
+    if (!(g.high > g.low)) throw Error(Status::InvalidArgument, "alpha_high must be above alpha_low");
+    MotionMaps maps;
+    maps.alpha = global_motion_map(series, basis, sigma, g,
+                                   {progress.progress, progress.start + progress.span / 3, progress.span / 3, "motion"});
+    const std::string albedo = params.get_string("albedo"), normal = params.get_string("normal");
+    std::string source = params.get_string("beta_source");
+    if (source == "auto") source = albedo.empty() && normal.empty() ? "zscore" : "aux";
+    const int dilate = static_cast<int>(params.get_int("dilate"));
+    if (source == "aux") {
+        if (albedo.empty() && normal.empty())
+            throw Error(Status::InvalidArgument, "beta_source=aux needs an albedo or normal pass");
+        const double threshold = params.get_float("aux_threshold");
+        for (const std::string& pattern : {albedo, normal}) {
+            if (pattern.empty()) continue;
+            auto beta = aux_motion(input, pattern, threshold, dilate);
+            if (maps.beta) {
+                combine_max(*maps.beta, *beta);
+            } else {
+                maps.beta = beta;
+            }
+        }
+    } else {
+        LocalMotionOptions l;
+        l.z_threshold = params.get_float("z_threshold");
+        l.window = static_cast<int>(params.get_int("z_window"));
+        l.dilate = dilate;
+        maps.beta = local_motion_from_zscores(input, l);
+    }
+    maps.beta->frame_numbers() = input.frame_numbers();
+    maps.beta_source = source;
+    progress.report(1.0);
+    return maps;
+}
+
+}  // namespace statfilter

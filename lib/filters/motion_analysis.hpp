@@ -1,0 +1,22 @@
+// The motion maps as the motion and hybrid filters compute them from their parameters.
+#pragma once
+#include <memory>
+#include <vector>
+
+#include "statfilter/filter.hpp"
+#include "statfilter/motion.hpp"
+
+namespace statfilter {
+
+std::vector<ParamSpec> motion_params();
+
+struct MotionMaps {
+    std::shared_ptr<Sequence> alpha;  // 1 frame, 1 channel; 1 = stationary
+    std::shared_ptr<Sequence> beta;   // F frames, 1 channel; 1 = moving now
+    std::string beta_source;          // "zscore" or "aux"
+};
+
+// Uses the temporal parameters (transform, nonfinite, shared_basis, memory_mb) and motion_params().
+MotionMaps compute_motion(const Sequence& input, const ParamSet& params, const ProgressSpan& progress);
+
+}  // namespace statfilter

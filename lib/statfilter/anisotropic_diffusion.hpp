@@ -1,0 +1,31 @@
+// Single-frame anisotropic diffusion on float HDR pixels: an explicit 4-neighbour scheme with the
+// study's flux 1/sqrt(1 + |grad u|^2 / K^2) or Perona-Malik's exp(-(|grad u| / K)^2). All channels
+// share one conductance (from the gradient across channels), so colour edges stay aligned.
+// In the log domain, u = sign(x) log(1 + |x| / eps) with eps a fraction of the frame's mean
+// magnitude: K then measures relative contrast, the same on a 1e-6 region as on a 1e6 one (for
+// frames spanning many decades, make epsilon smaller than the faintest level of interest).
+// K is in units of the frame's own noise: the robust spread (1.4826 x median) of |grad u|, so one
+// setting serves 4 and 1024 samples per pixel alike (Black et al., robust anisotropic diffusion).
+#pragma once
+#include <cstdint>
+#include <string>
+
+namespace statfilter {
+
+enum class DiffusionFlux { Study, PeronaMalik };
+
+struct DiffusionOptions {
+    DiffusionFlux flux = DiffusionFlux::PeronaMalik;
+    double k = 2.0;         // edge threshold, in units of the frame's gradient noise
+    double epsilon = 0.01;  // log domain: eps as a fraction of the frame's mean |x|
+    int iterations = 10;
+    double dt = 0.25;       // explicit step; <= 0.25 is stable on the 4-neighbour stencil
+    bool log_domain = true;
+};
+
+DiffusionFlux parse_diffusion_flux(const std::string& name);
+
+// Diffuses width x height pixels of `channels` interleaved floats in place.
+void diffuse_frame(float* pixels, int64_t width, int64_t height, int64_t channels, const DiffusionOptions& options);
+
+}  // namespace statfilter

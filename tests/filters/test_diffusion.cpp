@@ -1,0 +1,154 @@
+// Anisotropic diffusion: stability, edge preservation, HDR range, and agreement with OpenCV's
+// 8-bit implementation where both apply.
+#include <gtest/gtest.h>
+
+#include <opencv2/ximgproc.hpp>
+#include <random>
+
+#include "filter_runner.hpp"
+#include "statfilter/anisotropic_diffusion.hpp"
+#include "statfilter/error.hpp"
+#include "synthetic.hpp"
+
+using namespace statfilter;
+using namespace statfilter::test;
+
+namespace {
+
+// A vertical step edge (dark left, bright right) plus Gaussian noise, 3 channels, in [0, 255].
+cv::Mat noisy_step(cv::Mat* clean_out, double noise = 12.0) {
+    cv::Mat clean(48, 64, CV_32FC3), noisy(48, 64, CV_32FC3);
+    std::mt19937 rng(3);
+    std::normal_distribution<float> n(0, static_cast<float>(noise));
+    for (int y = 0; y < 48; ++y)
+        for (int x = 0; x < 64; ++x) {
+            const float v = x < 32 ? 60.0f : 190.0f;
+            clean.at<cv::Vec3f>(y, x) = cv::Vec3f(v, v, v);
+            for (int c = 0; c < 3; ++c) noisy.at<cv::Vec3f>(y, x)[c] = std::clamp(v + n(rng), 0.0f, 255.0f);
+        }
+    if (clean_out) *clean_out = clean;
+    return noisy;
+}
+
+double mse(const cv::Mat& a, const cv::Mat& b) {
+    cv::Mat d;
+    cv::absdiff(a, b, d);
+    d = d.mul(d);
+    const cv::Scalar s = cv::mean(d);
+    return (s[0] + s[1] + s[2]) / 3;
+}
+
+// Contrast across the edge: mean right of it minus mean left of it, two columns each side.
+double edge_contrast(const cv::Mat& img) {
+    cv::Scalar l = cv::mean(img(cv::Rect(30, 0, 2, 48))), r = cv::mean(img(cv::Rect(32, 0, 2, 48)));
+    return r[0] - l[0];
+}
+
+cv::Mat ours(const cv::Mat& in, DiffusionOptions o) {
+    cv::Mat out = in.clone();
+    diffuse_frame(out.ptr<float>(), out.cols, out.rows, 3, o);
+    return out;
+}
+
+}  // namespace
+
+TEST(Diffusion, AgreesWithOpenCvOnEightBitData) {
+    cv::Mat clean;
+    const cv::Mat noisy = noisy_step(&clean);
+    cv::Mat noisy8, cv_out8, cv_out;
+    noisy.convertTo(noisy8, CV_8UC3);
+    // Perona-Malik, 8-bit only; its K is on a 0..1 scale (0.1 ~ 25 grey levels).
+    cv::ximgproc::anisotropicDiffusion(noisy8, cv_out8, 0.1f, 0.1f, 20);
+    cv_out8.convertTo(cv_out, CV_32FC3);
+    DiffusionOptions o;
+    o.flux = DiffusionFlux::PeronaMalik;
+    o.log_domain = false;
+    o.k = 1.5;  // x the gradient noise (about 17 grey levels here): K ~ 25
+    o.dt = 0.1;
+    o.iterations = 20;
+    const cv::Mat mine = ours(noisy, o);
+    // Both remove most of the noise and keep the edge; they agree far better than either agrees with the input.
+    EXPECT_LT(mse(cv_out, clean), mse(noisy, clean) / 3);
+    EXPECT_LT(mse(mine, clean), mse(noisy, clean) / 3);
+    EXPECT_GT(edge_contrast(cv_out), 0.85 * 130);
+    EXPECT_GT(edge_contrast(mine), 0.85 * 130);
+    EXPECT_LT(mse(mine, cv_out), mse(noisy, cv_out) / 3);
+}
+
+// The study's flux grad/sqrt(1 + |grad|^2/K^2) is bounded (by K), not decreasing: an edge still
+// loses a little every step, where Perona-Malik's exp(-(|grad|/K)^2) stops at it.
+TEST(Diffusion, StudyFluxErodesEdgesMoreThanPeronaMalik) {
+    cv::Mat clean;
+    const cv::Mat noisy = noisy_step(&clean);
+    DiffusionOptions o;
+    o.flux = DiffusionFlux::Study;
+    o.log_domain = false;
+    o.k = 0.5;  // the study's flux falls off slowly (~K/|grad|): a lower K keeps the edge
+    o.iterations = 20;
+    const cv::Mat study = ours(noisy, o);
+    EXPECT_LT(mse(study, clean), mse(noisy, clean) / 2);
+    EXPECT_GT(edge_contrast(study), 0.6 * 130);
+    o.flux = DiffusionFlux::PeronaMalik;
+    o.k = 1.5;
+    EXPECT_GT(edge_contrast(ours(noisy, o)), edge_contrast(study));
+}
+
+TEST(Diffusion, HdrFromOneMillionthToOneMillionInOneFrame) {
+    // Four quadrants 1e-6, 1, 1e3, 1e6 with 20% relative noise: in the log domain each is smoothed
+    // on its own scale and none leaks into another.
+    const int W = 40, H = 40;
+    std::vector<float> img(W * H * 3), clean(W * H * 3);
+    std::mt19937 rng(5);
+    std::normal_distribution<float> n(0, 0.2f);
+    const float levels[4] = {1e-6f, 1.0f, 1e3f, 1e6f};
+    for (int y = 0; y < H; ++y)
+        for (int x = 0; x < W; ++x)
+            for (int c = 0; c < 3; ++c) {
+                const float v = levels[(y >= H / 2) * 2 + (x >= W / 2)];
+                clean[(y * W + x) * 3 + c] = v;
+                img[(y * W + x) * 3 + c] = v * (1 + n(rng));
+            }
+    std::vector<float> before = img;
+    DiffusionOptions o;  // log domain
+    o.epsilon = 1e-12;   // eps (about 2.5e-7 here) below the faintest level: 12 decades stay apart
+    o.iterations = 30;
+    diffuse_frame(img.data(), W, H, 3, o);
+    for (int q = 0; q < 4; ++q) {
+        double err_before = 0, err_after = 0;
+        const int x0 = (q % 2) * W / 2 + 4, y0 = (q / 2) * H / 2 + 4;
+        for (int y = y0; y < y0 + H / 2 - 8; ++y)
+            for (int x = x0; x < x0 + W / 2 - 8; ++x) {
+                const int i = (y * W + x) * 3;
+                ASSERT_TRUE(std::isfinite(img[i]));
+                err_before += std::pow((before[i] - clean[i]) / clean[i], 2);
+                err_after += std::pow((img[i] - clean[i]) / clean[i], 2);
+            }
+        EXPECT_LT(err_after, err_before / 4) << "quadrant " << levels[q];
+    }
+}
+
+TEST(Diffusion, UnstableStepIsRefusedAndConstantsStay) {
+    DiffusionOptions o;
+    o.dt = 0.3;
+    std::vector<float> img(12, 1.0f);
+    EXPECT_THROW(diffuse_frame(img.data(), 2, 2, 3, o), Error);
+    o.dt = 0.25;
+    diffuse_frame(img.data(), 2, 2, 3, o);
+    for (float v : img) EXPECT_FLOAT_EQ(v, 1.0f);
+    // Through the filter's parameter table, dt above 0.25 is out of range.
+    auto f = create_filter("diffusion");
+    EXPECT_THROW(f->params().set_float("dt", 0.3), Error);
+}
+
+TEST(Diffusion, FilterMatchesFrameByFrameDiffusion) {
+    LowRank g;
+    g.noise = 0.1;
+    const auto noisy = make_low_rank(g);
+    const FilterRun r = run_filter("diffusion", *noisy);
+    std::vector<float> frame(static_cast<size_t>(g.height * g.width * g.channels));
+    noisy->get_frame(7, frame.data());
+    diffuse_frame(frame.data(), g.width, g.height, g.channels, DiffusionOptions());
+    std::vector<float> filtered(frame.size());
+    r.output->get_frame(7, filtered.data());
+    for (size_t i = 0; i < frame.size(); ++i) ASSERT_EQ(frame[i], filtered[i]);
+}

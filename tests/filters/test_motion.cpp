@@ -1,0 +1,126 @@
+// Motion maps and the hybrid: known moving objects, a global light change that is not motion, and
+// the extremes (no motion, everything moving, one frame).
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "filter_runner.hpp"
+#include "synthetic.hpp"
+#include "statfilter/motion.hpp"
+
+using namespace statfilter;
+using namespace statfilter::test;
+
+namespace {
+
+constexpr int64_t kF = 24, kH = 40, kW = 60;
+
+// A lit background (a gentle gradient) with noise; a bright 8x8 square slides along row 16..24 from
+// x = 4 to x = 48 over the frames; `gain(f)` scales the whole frame (a global light change).
+std::unique_ptr<Sequence> scene(bool square, double (*gain)(int64_t), std::unique_ptr<Sequence>* clean, double noise = 0.05) {
+    auto noisy = std::make_unique<Sequence>(Shape{kF, kH, kW, 3});
+    *clean = std::make_unique<Sequence>(Shape{kF, kH, kW, 3});
+    std::mt19937 rng(11);
+    std::normal_distribution<double> n(0, noise);
+    for (int64_t f = 0; f < kF; ++f) {
+        const int64_t sx = 4 + 44 * f / (kF - 1);
+        for (int64_t y = 0; y < kH; ++y)
+            for (int64_t x = 0; x < kW; ++x)
+                for (int64_t c = 0; c < 3; ++c) {
+                    double v = 0.5 + 0.3 * x / kW;
+                    if (square && y >= 16 && y < 24 && x >= sx && x < sx + 8) v = 3.0;
+                    v *= gain(f);
+                    (*clean)->at(f, y, x, c) = static_cast<float>(v);
+                    noisy->at(f, y, x, c) = static_cast<float>(v * (1 + n(rng)));
+                }
+    }
+    return noisy;
+}
+
+double steady(int64_t) { return 1.0; }
+double swinging(int64_t f) { return 1.0 + 0.35 * std::sin(2 * M_PI * f / kF); }
+
+double mean_in(const Sequence& map, int64_t y0, int64_t y1, int64_t x0, int64_t x1, int64_t frame = 0) {
+    double s = 0;
+    for (int64_t y = y0; y < y1; ++y)
+        for (int64_t x = x0; x < x1; ++x) s += map.at(frame, y, x, 0);
+    return s / ((y1 - y0) * (x1 - x0));
+}
+
+}  // namespace
+
+TEST(Motion, AlphaMarksThePathOfAMovingObjectOnly) {
+    std::unique_ptr<Sequence> clean;
+    const auto seq = scene(true, steady, &clean);
+    const FilterRun r = run_filter("motion", *seq);
+    const auto alpha = r.filter->results().image("alpha");
+    EXPECT_LT(mean_in(*alpha, 17, 23, 10, 50), 0.3);   // the square's path
+    EXPECT_GT(mean_in(*alpha, 0, 10, 0, kW), 0.98);     // far from it
+    EXPECT_GT(mean_in(*alpha, 32, 40, 0, kW), 0.98);
+    EXPECT_EQ(max_abs_diff(*r.output, *seq), 0.0);      // the motion filter passes frames through
+}
+
+TEST(Motion, GlobalLightChangeIsNotMotion) {
+    std::unique_ptr<Sequence> clean;
+    const auto seq = scene(false, swinging, &clean);
+    const FilterRun ignored = run_filter("motion", *seq);
+    const FilterRun kept = run_filter("motion", *seq, {{"global_light", "keep"}});
+    EXPECT_LT(ignored.result("moving_fraction"), 0.02);
+    EXPECT_GT(kept.result("moving_fraction"), 0.3);  // without the correction the light swing looks like motion
+}
+
+TEST(Motion, BetaFromZScoresAndFromAuxPasses) {
+    std::unique_ptr<Sequence> clean;
+    const auto seq = scene(true, steady, &clean, 0.02);
+    const FilterRun r = run_filter("motion", *seq, {{"beta_source", "zscore"}});
+    const auto beta = r.filter->results().image("beta");
+    ASSERT_EQ(beta->shape(), (Shape{kF, kH, kW, 1}));
+    const int64_t f = 12, sx = 4 + 44 * f / (kF - 1);
+    EXPECT_GT(mean_in(*beta, 17, 23, sx + 1, sx + 7, f), 0.9);  // where the square is now
+    EXPECT_LT(mean_in(*beta, 0, 10, 0, kW, f), 0.02);
+    // The same from a noise-free "albedo" pass written to disk.
+    const auto aux = local_motion_from_aux(*clean, 0.05, 0);
+    EXPECT_GT(mean_in(*aux, 17, 23, sx + 1, sx + 7, f), 0.99);
+    EXPECT_EQ(mean_in(*aux, 0, 10, 0, kW, f), 0.0);
+}
+
+TEST(Motion, ConstantSequenceHasNoMotionAndNoNaN) {
+    Sequence constant(Shape{6, 5, 5, 3});
+    for (int64_t f = 0; f < 6; ++f)
+        for (int64_t y = 0; y < 5; ++y)
+            for (int64_t x = 0; x < 5; ++x)
+                for (int64_t c = 0; c < 3; ++c) constant.at(f, y, x, c) = 0.7f;
+    const FilterRun r = run_filter("motion", constant, {{"beta_source", "zscore"}});
+    EXPECT_EQ(r.result("moving_fraction"), 0.0);
+    EXPECT_EQ(r.result("beta_fraction"), 0.0);  // sigma = 0 gives z = 0, not NaN
+}
+
+TEST(Hybrid, BeatsGlobalPcaWhereTheObjectMoves) {
+    std::unique_ptr<Sequence> clean;
+    const auto seq = scene(true, steady, &clean, 0.5);  // render-like noise: temporal filtering pays
+    const FilterRun hybrid = run_filter("hybrid", *seq);
+    const FilterRun pca = run_filter("pca", *seq);
+    EXPECT_LT(mse(*hybrid.output, *clean), 0.9 * mse(*pca.output, *clean));
+    EXPECT_GT(hybrid.result("moving_basis_fraction") + hybrid.result("diffusion_fraction"), 0.0);
+}
+
+TEST(Hybrid, NoMotionMeansTheTemporalFilterAlone) {
+    std::unique_ptr<Sequence> clean;
+    const auto seq = scene(false, steady, &clean);
+    const FilterRun hybrid = run_filter("hybrid", *seq);
+    EXPECT_EQ(hybrid.result("moving_basis_fraction"), 0.0);
+    EXPECT_EQ(hybrid.result("diffusion_fraction"), 0.0);
+    EXPECT_EQ(max_abs_diff(*hybrid.output, *run_filter("error-threshold", *seq).output), 0.0);
+}
+
+TEST(Hybrid, EverythingMovingAndOneFrame) {
+    LowRank g;
+    g.rank = 0;
+    g.noise = 1.0;  // pure noise every frame: nothing is coherent over time
+    const auto chaos = make_low_rank(g);
+    const FilterRun r = run_filter("hybrid", *chaos);
+    EXPECT_TRUE(all_finite(*r.output));
+    g.frames = 1;
+    const auto one = make_low_rank(g);
+    EXPECT_EQ(max_abs_diff(*run_filter("hybrid", *one).output, *one), 0.0);
+}
