@@ -22,19 +22,31 @@ sf_status on_filter(sf_filter filter, Body&& body) {
 
 extern "C" {
 
-int sf_filter_count(void) { return static_cast<int>(filter_registry().size()); }
+int sf_filter_count(void) {
+    try {
+        return static_cast<int>(available_filters().size());
+    } catch (...) {
+        return 0;
+    }
+}
 
 const char* sf_filter_name(int index) {
-    const auto& reg = filter_registry();
-    if (index < 0 || static_cast<size_t>(index) >= reg.size()) return nullptr;
-    return reg[static_cast<size_t>(index)].name.c_str();
+    try {
+        const auto filters = available_filters();
+        if (index < 0 || static_cast<size_t>(index) >= filters.size()) return nullptr;
+        return filters[static_cast<size_t>(index)]->name.c_str();  // entries live until exit
+    } catch (...) {
+        return nullptr;
+    }
 }
 
 const char* sf_filter_description(const char* name) {
     if (!name) return nullptr;
-    for (const auto& e : filter_registry())
-        if (e.name == name) return e.description.c_str();
-    return nullptr;
+    try {
+        return find_filter(name).description.c_str();
+    } catch (...) {
+        return nullptr;
+    }
 }
 
 sf_status sf_filter_create(const char* name, sf_filter* out) {

@@ -104,6 +104,8 @@ const ParamSpec& ParamSet::spec(const std::string& name) const {
     throw Error(Status::NotFound, "unknown parameter '" + name + "'" + (known.empty() ? "" : " (parameters: " + known + ")"));
 }
 
+bool ParamSet::has(const std::string& name) const { return values_.count(name) != 0; }
+
 void ParamSet::set_int(const std::string& name, int64_t value) {
     const ParamSpec& s = spec(name);
     ParamValue& v = values_[name];

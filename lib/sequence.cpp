@@ -121,6 +121,7 @@ void Sequence::copy_attributes_from(const Sequence& other) {
     channel_names_ = other.channel_names_;
     frame_numbers_ = other.frame_numbers_;
     metadata_ = other.metadata_;
+    source_ = other.source_;
 }
 
 ChannelStats channel_stats(const Sequence& seq, int64_t channel) {

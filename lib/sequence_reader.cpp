@@ -190,6 +190,7 @@ std::unique_ptr<Sequence> read_sequence(const std::string& pattern_text, const R
 
     auto seq = std::make_unique<Sequence>(shape);
     for (size_t c = 0; c < selection.size(); ++c) seq->channel_names()[c] = selection[c].name;
+    seq->source() = SequenceSource{pattern_text, options.channels};
     for (int64_t f = 0; f < shape.frames; ++f) {
         options.progress.report(static_cast<double>(f) / shape.frames, "read");
         seq->frame_numbers()[f] = frames[f];

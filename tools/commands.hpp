@@ -11,6 +11,7 @@ int cmd_info(int argc, char** argv);
 int cmd_copy(int argc, char** argv);
 int cmd_denoise(int argc, char** argv);
 int cmd_compare(int argc, char** argv);
+int cmd_plugins(int argc, char** argv);
 int cmd_motion(int argc, char** argv);
 
 }  // namespace statfilter_cli

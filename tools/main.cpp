@@ -21,6 +21,7 @@ const char* const kUsage =
     "  denoise IN OUT      filter a sequence (--method, parameters: statfilter denoise --help)\n"
     "  motion IN           motion maps: alpha (1 = still) and beta (per frame, 1 = moving)\n"
     "  compare TEST REF    error of a sequence against a reference (relMSE, PSNR, flicker)\n"
+    "  plugins             every filter, built-in or plugin: kind, version, origin, parameters\n"
     "  version             print the library version\n"
     "\n"
     "Patterns follow oiiotool: beauty.####.exr, beauty.#.exr (4 digits), beauty.@@.exr,\n"
@@ -40,6 +41,7 @@ int main(int argc, char** argv) {
         if (command == "copy") return cmd_copy(argc, argv);
         if (command == "denoise") return cmd_denoise(argc, argv);
         if (command == "compare") return cmd_compare(argc, argv);
+        if (command == "plugins") return cmd_plugins(argc, argv);
         if (command == "motion") return cmd_motion(argc, argv);
         if (command == "version" || command == "--version") {
             std::printf("statfilter %s\n", sf_version_string());

@@ -1,9 +1,11 @@
 #include "filters/temporal_params.hpp"
 
+#include "filters/prefilter.hpp"
+
 namespace statfilter {
 
 std::vector<ParamSpec> temporal_common_params() {
-    return {
+    std::vector<ParamSpec> params = {
         // log measured best on every scene and level: docs/methods.md
         choice_param("transform", "log", {"none", "sqrt", "log"},
                      "variance-stabilising transform (signed) applied before the temporal basis and undone after"),
@@ -12,6 +14,8 @@ std::vector<ParamSpec> temporal_common_params() {
         int_param("shared_basis", "1", 0, 1, "1: all channels share one temporal basis; 0: one basis per channel"),
         float_param("memory_mb", "512", 1, 1e7, "working memory budget for pixel tiles, in MiB (results do not depend on it)"),
     };
+    for (auto& p : prefilter_params()) params.push_back(p);  // run by Filter::execute
+    return params;
 }
 
 ParamSpec rank_param(const char* default_value) {

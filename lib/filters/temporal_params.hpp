@@ -7,7 +7,7 @@
 
 namespace statfilter {
 
-// transform, nonfinite, shared_basis, memory_mb.
+// transform, nonfinite, shared_basis, memory_mb, prefilter, prefilter_params.
 std::vector<ParamSpec> temporal_common_params();
 
 struct TemporalSetup {

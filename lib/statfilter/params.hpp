@@ -57,6 +57,7 @@ public:
     bool get_integer_choice(const std::string& name, int64_t& value) const;
 
     const std::vector<ParamSpec>& specs() const { return specs_; }
+    bool has(const std::string& name) const;
 
 private:
     const ParamSpec& spec(const std::string& name) const;

@@ -35,6 +35,13 @@ void validate_shape(const Shape& shape);
 // Contiguous (frame, row, pixel, channel) strides for a shape.
 Strides contiguous_strides(const Shape& shape);
 
+// Where a sequence's frames were read from, empty when not from files. Plugins use it to read the
+// matching frames of other layers of the same files (e.g. an albedo pass).
+struct SequenceSource {
+    std::string pattern;
+    std::string channels;  // the channel or layer selection it was read with; empty = all
+};
+
 class Sequence {
 public:
     // Owned, zero-filled, contiguous.
@@ -63,7 +70,7 @@ public:
     void set_frame(int64_t f, const float* src);
     // Copies all samples from another sequence of the same shape (any strides).
     void copy_samples_from(const Sequence& other);
-    // Copies names, frame numbers and metadata from another sequence with the same frames and channels.
+    // Copies names, frame numbers, metadata and source from another sequence with the same frames and channels.
     void copy_attributes_from(const Sequence& other);
 
     std::vector<std::string>& channel_names() { return channel_names_; }
@@ -73,6 +80,8 @@ public:
     // Per-frame file metadata (EXR attributes) kept from reading, written back on output.
     std::vector<OIIO::ParamValueList>& metadata() { return metadata_; }
     const std::vector<OIIO::ParamValueList>& metadata() const { return metadata_; }
+    SequenceSource& source() { return source_; }
+    const SequenceSource& source() const { return source_; }
 
 private:
     void init_attributes();
@@ -84,6 +93,7 @@ private:
     std::vector<std::string> channel_names_;
     std::vector<int64_t> frame_numbers_;
     std::vector<OIIO::ParamValueList> metadata_;
+    SequenceSource source_;
 };
 
 struct ChannelStats {

@@ -9,17 +9,21 @@ Arrays are float32 NumPy arrays shaped (frames, height, width, channels).
                       channel_names=info.channel_names)
 """
 
-from ._capi import library_path
-from .errors import (CancelledError, Error, FileError, InternalError, InvalidArgumentError, NotFoundError,
-                     NumericError, OutOfMemoryError, UnsupportedError)
-from .filter import Filter, filters, version
-from .metrics import compare
-from .sequence import SequenceInfo, pattern_format, pattern_frames, read_sequence, write_sequence
+from ._oidn_library import use_pyoidn_if_unset
+
+use_pyoidn_if_unset()  # before any plugin is loaded: the oidn plugin then finds pyoidn's library
+
+from ._capi import library_path  # noqa: E402
+from .errors import (CancelledError, Error, FileError, InternalError, InvalidArgumentError,  # noqa: E402
+                     NotFoundError, NumericError, OutOfMemoryError, UnsupportedError)
+from .filter import Filter, filters, plugins, version  # noqa: E402
+from .metrics import compare  # noqa: E402
+from .sequence import SequenceInfo, pattern_format, pattern_frames, read_sequence, write_sequence  # noqa: E402
 
 __version__ = "0.1.0"
 
 __all__ = [
     "CancelledError", "Error", "FileError", "Filter", "InternalError", "InvalidArgumentError", "NotFoundError",
     "NumericError", "OutOfMemoryError", "SequenceInfo", "UnsupportedError", "compare", "filters", "library_path",
-    "pattern_format", "pattern_frames", "read_sequence", "version", "write_sequence",
+    "pattern_format", "pattern_frames", "plugins", "read_sequence", "version", "write_sequence",
 ]

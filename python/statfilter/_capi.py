@@ -33,6 +33,13 @@ SF_PARAM_INT = 0
 SF_PARAM_FLOAT = 1
 SF_PARAM_STRING = 2
 
+sf_filter_kind = c_int
+SF_FILTER_TEMPORAL = 0
+SF_FILTER_SINGLE_FRAME = 1
+
+SF_PLUGIN_ABI_VERSION = 1
+SF_PLUGIN_ENTRY = "sf_plugin_entry"
+
 # ---- opaque handles --------------------------------------------------------------------------
 
 
@@ -112,8 +119,61 @@ class sf_comparison(Structure):
                 ("jitter", c_double)]
 
 
+class sf_filter_info(Structure):
+    _fields_ = [("struct_size", c_size_t),
+                ("name", c_char_p),
+                ("description", c_char_p),
+                ("kind", sf_filter_kind),
+                ("origin", c_char_p),
+                ("version", c_char_p),
+                ("available", c_int),
+                ("problem", c_char_p)]
+
+
+# ---- the plugin interface (what a plugin library exports; mirrored for completeness) ----------
+
+class sf_plugin_run(Structure):
+    _fields_ = [("struct_size", c_size_t),
+                ("shape", sf_shape),
+                ("input", POINTER(c_float)),
+                ("input_strides", sf_strides),
+                ("output", POINTER(c_float)),
+                ("output_strides", sf_strides),
+                ("frame_numbers", POINTER(c_int64)),
+                ("channel_names", POINTER(c_char_p)),
+                ("source_pattern", c_char_p),
+                ("source_channels", c_char_p),
+                ("progress", sf_progress_callback),
+                ("progress_user", c_void_p)]
+
+
+sf_plugin_probe_fn = CFUNCTYPE(sf_status, c_char_p, c_size_t)
+sf_plugin_create_fn = CFUNCTYPE(sf_status, POINTER(c_void_p), c_char_p, c_size_t)
+sf_plugin_set_param_fn = CFUNCTYPE(sf_status, c_void_p, c_char_p, c_char_p, c_char_p, c_size_t)
+sf_plugin_execute_fn = CFUNCTYPE(sf_status, c_void_p, POINTER(sf_plugin_run), c_char_p, c_size_t)
+sf_plugin_release_fn = CFUNCTYPE(None, c_void_p)
+
+
+class sf_plugin(Structure):
+    _fields_ = [("abi_version", c_int),
+                ("name", c_char_p),
+                ("version", c_char_p),
+                ("description", c_char_p),
+                ("kind", sf_filter_kind),
+                ("param_count", c_int),
+                ("params", POINTER(sf_param_info)),
+                ("probe", sf_plugin_probe_fn),
+                ("create", sf_plugin_create_fn),
+                ("set_param", sf_plugin_set_param_fn),
+                ("execute", sf_plugin_execute_fn),
+                ("release", sf_plugin_release_fn)]
+
+
+sf_plugin_entry_fn = CFUNCTYPE(POINTER(sf_plugin))
+
 STRUCTS = {cls.__name__: cls for cls in (sf_shape, sf_strides, sf_channel_stats, sf_comparison, sf_read_options,
-                                         sf_write_options, sf_param_info)}
+                                         sf_write_options, sf_param_info, sf_filter_info, sf_plugin_run,
+                                         sf_plugin)}
 
 # ---- functions: name -> (restype, [argtypes]) -------------------------------------------------
 
@@ -170,6 +230,11 @@ FUNCTIONS = {
     "sf_filter_result_sequence": (sf_status, [sf_filter, c_char_p, _P(sf_sequence)]),
     "sf_filter_set_progress": (sf_status, [sf_filter, sf_progress_callback, c_void_p]),
     "sf_filter_execute": (sf_status, [sf_filter, sf_sequence, sf_sequence]),
+    # filter plugins and the filter listing
+    "sf_filter_info_init": (None, [_P(sf_filter_info)]),
+    "sf_filter_info_count": (c_int, []),
+    "sf_filter_info_at": (sf_status, [c_int, _P(sf_filter_info)]),
+    "sf_filter_info_get": (sf_status, [c_char_p, _P(sf_filter_info)]),
 }
 
 lib, library_path = load_library()

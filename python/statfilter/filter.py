@@ -27,6 +27,32 @@ def filters():
     return out
 
 
+_KIND_NAMES = {_capi.SF_FILTER_TEMPORAL: "temporal", _capi.SF_FILTER_SINGLE_FRAME: "single-frame"}
+
+
+def plugins():
+    """Every filter the library finds, built-in or plugin, as a list of dicts with keys name,
+    kind ("temporal", or "single-frame": usable as a temporal filter's ``prefilter``), version,
+    origin ("built-in" or the plugin file's path), available (bool), problem (why not, "" if
+    available) and description. Plugins are found on $STATFILTER_PLUGIN_PATH and next to the
+    library; the ones that cannot be used are listed too."""
+    out = []
+    for i in range(_capi.lib.sf_filter_info_count()):
+        info = _capi.sf_filter_info()
+        _capi.lib.sf_filter_info_init(ctypes.byref(info))
+        check(_capi.lib.sf_filter_info_at(i, ctypes.byref(info)))
+        out.append({
+            "name": _capi.text(info.name),
+            "kind": _KIND_NAMES.get(info.kind, str(info.kind)),
+            "version": _capi.text(info.version),
+            "origin": _capi.text(info.origin),
+            "available": bool(info.available),
+            "problem": _capi.text(info.problem),
+            "description": _capi.text(info.description),
+        })
+    return out
+
+
 def version():
     """The version of the loaded C library, e.g. "0.1.0"."""
     return _capi.text(_capi.lib.sf_version_string())

@@ -89,6 +89,8 @@ def expected_ctype(c_type):
     }
     for enum in header_enums():
         base[enum] = ctypes.c_int
+    for callback in header_callbacks():  # function-pointer typedefs (the plugin struct's members)
+        base[callback] = getattr(_capi, callback)
     if c_type in base:
         return base[c_type]
     if c_type in _capi.STRUCTS:
@@ -147,7 +149,7 @@ def test_struct_members(struct):
 
 def test_enums_match():
     enums = header_enums()
-    assert set(enums) == {"sf_status", "sf_pixel_type", "sf_param_type"}
+    assert set(enums) == {"sf_status", "sf_pixel_type", "sf_param_type", "sf_filter_kind"}
     for values in enums.values():
         for key, value in values.items():
             assert getattr(_capi, key) == value, key
@@ -163,7 +165,9 @@ def test_enums_match():
 
 def test_callbacks_match():
     callbacks = header_callbacks()
-    assert set(callbacks) == {"sf_progress_callback", "sf_error_callback"}
+    assert set(callbacks) == {"sf_progress_callback", "sf_error_callback", "sf_plugin_probe_fn", "sf_plugin_create_fn",
+                              "sf_plugin_set_param_fn", "sf_plugin_execute_fn", "sf_plugin_release_fn",
+                              "sf_plugin_entry_fn"}
     for name, (ret, params) in callbacks.items():
         py = getattr(_capi, name)
         assert py._restype_ is expected_ctype(ret), name

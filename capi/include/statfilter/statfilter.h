@@ -223,7 +223,8 @@ typedef struct sf_param_info {
     const char* choices;       /* for string parameters with fixed values: comma list, else "" */
 } sf_param_info;
 
-/* Names of the available filters: index 0 .. sf_filter_count() - 1. */
+/* Names of the filters that can be created here: the built-ins and every plugin that loaded
+ * (see "filter plugins" below), index 0 .. sf_filter_count() - 1. */
 SF_API int sf_filter_count(void);
 SF_API const char* sf_filter_name(int index);
 SF_API const char* sf_filter_description(const char* name);
@@ -261,6 +262,103 @@ SF_API sf_status sf_filter_set_progress(sf_filter filter, sf_progress_callback c
  * wrap caller memory) and must not overlap the input unless it is the same memory with the
  * same strides. The input's channel names, frame numbers and metadata are copied to output. */
 SF_API sf_status sf_filter_execute(sf_filter filter, sf_sequence input, sf_sequence output);
+
+/* ---- filter plugins ----------------------------------------------------------------------- */
+
+/* A filter can live in its own shared library, a plugin. statfilter finds one named
+ * statfilter_NAME.so (NAME = the filter's name) in each directory of $STATFILTER_PLUGIN_PATH
+ * (colon-separated, searched in order), then in the directory of libstatfilter itself, loads it
+ * with dlopen the first time the filter is asked for (or the filters are listed) and calls its one
+ * exported function SF_PLUGIN_ENTRY, of type sf_plugin_entry_fn. A file that does not load, lacks
+ * that symbol or declares another plugin ABI version is never used: asking for it fails with a
+ * message naming the file, and sf_filter_info reports why. Plugins stay loaded until exit. */
+
+/* The plugin ABI version this header describes; a plugin's sf_plugin.abi_version must equal it. */
+#define SF_PLUGIN_ABI_VERSION 1
+/* The name of the function every plugin exports. */
+#define SF_PLUGIN_ENTRY "sf_plugin_entry"
+/* Put before the entry function's definition in a plugin: exported with C linkage. */
+#ifdef __cplusplus
+#  define SF_PLUGIN_EXPORT extern "C" __attribute__((visibility("default")))
+#else
+#  define SF_PLUGIN_EXPORT __attribute__((visibility("default")))
+#endif
+
+typedef enum sf_filter_kind {
+    SF_FILTER_TEMPORAL = 0,    /* needs the whole sequence (pca, error-threshold, ...) */
+    SF_FILTER_SINGLE_FRAME = 1 /* works frame by frame: usable as a temporal filter's prefilter */
+} sf_filter_kind;
+
+/* What a plugin's execute gets: the whole sequence, input and output as strided float buffers
+ * (byte strides, as sf_sequence_data), plus where the input came from so that a plugin can read
+ * matching frames of other passes (e.g. albedo) with sf_sequence_read. */
+typedef struct sf_plugin_run {
+    size_t struct_size;               /* sizeof(sf_plugin_run) of the host; fields past a plugin's
+                                         own size are unknown to it, never missing to it */
+    sf_shape shape;
+    const float* input;
+    sf_strides input_strides;
+    float* output;                    /* may be the same memory as input (same strides) */
+    sf_strides output_strides;
+    const int64_t* frame_numbers;     /* shape.frames numbers, as on disk */
+    const char* const* channel_names; /* shape.channels names */
+    const char* source_pattern;       /* the pattern the input was read from; "" if not from files */
+    const char* source_channels;      /* the channels or layer it was read with; "" = all */
+    sf_progress_callback progress;    /* call per frame; non-zero back: stop, return SF_ERROR_CANCELLED */
+    void* progress_user;
+} sf_plugin_run;
+
+/* The plugin's functions. Every one that can fail returns an sf_status and, on failure, writes a
+ * NUL-terminated message of at most error_size bytes into error. None may throw or longjmp. */
+/* Whether the plugin can run on this machine (e.g. its runtime library is present). */
+typedef sf_status (*sf_plugin_probe_fn)(char* error, size_t error_size);
+typedef sf_status (*sf_plugin_create_fn)(void** instance, char* error, size_t error_size);
+/* Called before each execute with every parameter as text, already checked by statfilter against
+ * the plugin's parameter table (type, range, choices). */
+typedef sf_status (*sf_plugin_set_param_fn)(void* instance, const char* name, const char* value, char* error,
+                                            size_t error_size);
+typedef sf_status (*sf_plugin_execute_fn)(void* instance, const sf_plugin_run* run, char* error,
+                                          size_t error_size);
+typedef void (*sf_plugin_release_fn)(void* instance);
+
+typedef struct sf_plugin {
+    int abi_version;             /* SF_PLUGIN_ABI_VERSION; first, so that any version can be checked */
+    const char* name;            /* the filter's name: must match the file name statfilter_NAME.so */
+    const char* version;         /* the plugin's own version, e.g. "1.0.0" */
+    const char* description;
+    sf_filter_kind kind;
+    int param_count;
+    const sf_param_info* params; /* param_count entries, each of size params[0].struct_size */
+    sf_plugin_probe_fn probe;    /* may be NULL: always usable */
+    sf_plugin_create_fn create;
+    sf_plugin_set_param_fn set_param;
+    sf_plugin_execute_fn execute;
+    sf_plugin_release_fn release;
+} sf_plugin;
+
+/* A plugin exports:  SF_PLUGIN_EXPORT const sf_plugin* sf_plugin_entry(void);
+ * returning a pointer that stays valid while the library is loaded. */
+typedef const sf_plugin* (*sf_plugin_entry_fn)(void);
+
+/* What statfilter knows about one filter, built-in or plugin. */
+typedef struct sf_filter_info {
+    size_t struct_size;      /* set by the caller (sf_filter_info_init); fields past it are not written */
+    const char* name;
+    const char* description;
+    sf_filter_kind kind;
+    const char* origin;      /* "built-in", or the plugin file's path */
+    const char* version;     /* the library's version for built-ins, the plugin's own for plugins */
+    int available;           /* 1: sf_filter_create works; 0: see problem */
+    const char* problem;     /* why not, naming the file (e.g. a missing runtime library); "" if available */
+} sf_filter_info;
+
+SF_API void sf_filter_info_init(sf_filter_info* info);
+/* Every filter found: the built-ins, then every plugin file on the search path, including those that
+ * cannot be used (available = 0). Index 0 .. sf_filter_info_count() - 1. Strings stay valid until exit. */
+SF_API int sf_filter_info_count(void);
+SF_API sf_status sf_filter_info_at(int index, sf_filter_info* info);
+/* The same for one name: loads the plugin if needed. SF_ERROR_NOT_FOUND if no such filter. */
+SF_API sf_status sf_filter_info_get(const char* name, sf_filter_info* info);
 
 #ifdef __cplusplus
 }

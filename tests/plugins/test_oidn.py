@@ -1,0 +1,97 @@
+"""The oidn plugin. Without libOpenImageDenoise these tests skip, saying why, except the one that
+checks the error a user then gets. CI installs it (scripts/setup.sh: pip install pyoidn)."""
+
+import os
+
+import numpy as np
+import pytest
+
+import statfilter
+from conftest import SAMPLE, SHARED, run_cli
+
+NOISY = SAMPLE / "cornell_moving" / "spp0004" / "indirect.####.exr"
+REF = SAMPLE / "cornell_moving" / "ref" / "indirect.####.exr"
+AUX = SAMPLE / "cornell_moving" / "aux"
+
+
+@pytest.fixture(scope="module")
+def sample():
+    return statfilter.read_sequence(str(NOISY)), statfilter.read_sequence(str(REF))
+
+
+def test_missing_library_is_a_clear_error(tmp_path):
+    env = {"STATFILTER_OIDN_LIBRARY": str(tmp_path / "libOpenImageDenoise.so.2")}
+    listing = run_cli("plugins", env=env).stdout
+    oidn_lines = listing.split("\noidn ", 1)[1].split("\n    --", 1)[0]
+    assert "UNAVAILABLE" in oidn_lines and "pip install pyoidn" in oidn_lines
+    for args in (["--method", "oidn"], ["--method", "pca", "--prefilter", "oidn"]):
+        proc = run_cli("denoise", NOISY, tmp_path / "o.####.exr", *args, "--frames", "1-3", "-q", env=env, check_rc=1)
+        assert "libOpenImageDenoise" in proc.stderr and "pip install pyoidn" in proc.stderr, proc.stderr
+        assert "STATFILTER_OIDN_LIBRARY" in proc.stderr
+    assert not list(tmp_path.glob("o.*.exr"))
+
+
+def test_oidn_denoises_real_renders(oidn, sample):
+    noisy, ref = sample
+    out = statfilter.Filter("oidn")(noisy)
+    before, after = statfilter.compare(noisy, ref), statfilter.compare(out, ref)
+    assert after["rel_mse"] < 0.2 * before["rel_mse"], (before, after)
+    assert after["psnr"] > before["psnr"] + 5
+
+
+def test_temporal_pass_after_oidn_lowers_still_scene_jitter(oidn, sample):
+    noisy, ref = sample
+    alone = statfilter.compare(statfilter.Filter("oidn")(noisy), ref)
+    for method in ("pca", "error-threshold", "moving-basis"):
+        stabilised = statfilter.compare(statfilter.Filter(method, prefilter="oidn")(noisy), ref)
+        assert stabilised["jitter"] < 0.5 * alone["jitter"], (method, alone, stabilised)
+        assert stabilised["flicker"] < alone["flicker"], method
+        assert stabilised["rel_mse"] < alone["rel_mse"], method
+
+
+def test_parameters_and_guides(oidn, sample):
+    noisy = sample[0][:4]
+    default = statfilter.Filter("oidn")(noisy)
+    fast = statfilter.Filter("oidn", quality="fast")(noisy)
+    assert not np.array_equal(default, fast)
+    assert np.isfinite(fast).all()
+    guided = statfilter.Filter("oidn", albedo=str(AUX / "albedo.####.exr"), normal=str(AUX / "normal.####.exr"))(noisy)
+    assert not np.array_equal(default, guided) and np.isfinite(guided).all()
+    with pytest.raises(statfilter.InvalidArgumentError, match="normal pass needs an albedo"):
+        statfilter.Filter("oidn", normal=str(AUX / "normal.####.exr"))(noisy)
+    with pytest.raises(statfilter.InvalidArgumentError, match="needs an input read from files"):
+        statfilter.Filter("oidn", albedo="ViewLayer.Diffuse Color")(noisy)
+    with pytest.raises(statfilter.InvalidArgumentError, match="is 160 x 120, the input 8 x 8"):
+        statfilter.Filter("oidn", albedo=str(AUX / "albedo.####.exr"))(noisy[:, :8, :8])
+    with pytest.raises(statfilter.InvalidArgumentError, match="3 channels"):
+        statfilter.Filter("oidn")(np.ones((2, 8, 8, 2), np.float32))
+    nan = noisy.copy()
+    nan[1, 2, 3, 0] = np.nan
+    with pytest.raises(statfilter.NumericError, match="non-finite value at frame 2, pixel \\(3, 2\\)"):
+        statfilter.Filter("oidn")(nan)
+    # One channel and RGBA: grey is denoised as grey, alpha passes through.
+    grey = statfilter.Filter("oidn")(noisy[..., :1])
+    assert grey.shape == noisy[..., :1].shape and np.isfinite(grey).all()
+    rgba = np.concatenate([noisy, np.full(noisy[..., :1].shape, 0.25, np.float32)], axis=-1)
+    out = statfilter.Filter("oidn")(rgba)
+    np.testing.assert_array_equal(out[..., 3], 0.25)
+    np.testing.assert_array_equal(out[..., :3], default)
+
+
+def test_cli_prefilter_oidn(oidn, tmp_path):
+    out = tmp_path / "out.####.exr"
+    run_cli("denoise", NOISY, out, "--method", "pca", "--rank", "auto", "--prefilter", "oidn",
+            "--prefilter-params", "quality=high", "--frames", "1-8", "-q")
+    assert len(list(tmp_path.glob("out.*.exr"))) == 8
+
+
+def test_layers_of_the_input_files(oidn, tmp_path):
+    raw = SHARED / "raw" / "cornell_moving_spp0016"
+    if not raw.is_dir():
+        pytest.skip("no multi-part Blender frames in %s" % raw)
+    out = tmp_path / "out.####.exr"
+    run_cli("denoise", raw / "frame.####.exr", out, "--channels", "ViewLayer.Diffuse Indirect", "--method", "oidn",
+            "--albedo", "ViewLayer.Diffuse Color", "--normal", "ViewLayer.Normal", "-q")
+    bad = run_cli("denoise", raw / "frame.####.exr", out, "--channels", "ViewLayer.Diffuse Indirect",
+                  "--method", "oidn", "--albedo", "ViewLayer.No Such Layer", "-q", check_rc=1)
+    assert "albedo" in bad.stderr and "No Such Layer" in bad.stderr
