@@ -5,9 +5,9 @@ import platform
 from collections import defaultdict
 
 DEFAULTS = {"pca": "pca auto log", "error-threshold": "error-threshold w9 t2",
-            "moving-basis": "moving-basis h8 reconstruction rauto"}
+            "moving-basis": "moving-basis h8 reconstruction rauto", "diffusion": "diffusion", "hybrid": "hybrid"}
 COLORS = {"input": "black", "numpy": "grey", "pca": "tab:blue", "error-threshold": "tab:green",
-          "moving-basis": "tab:orange"}
+          "moving-basis": "tab:orange", "diffusion": "tab:purple", "hybrid": "tab:red"}
 
 
 def fmt(v, digits=4):
@@ -62,7 +62,7 @@ def plot(rows, docs):
     return files
 
 
-def write(rows, production, docs, command, cores):
+def write(rows, production, docs, command, cores, motion=None, figure=None):
     grouped = group(rows)
     lines = ["# Benchmarks", "",
              f"Made by `{command}` on {datetime.date.today()} ({platform.machine()}, {cores} cores; "
@@ -78,8 +78,8 @@ def write(rows, production, docs, command, cores):
              "jitter = mean |second temporal difference| of luminance on still pixels.", "",
              "## Headline: relMSE against the reference", "",
              "| scene | level | noisy | numpy pca auto | pca auto | (x lower) | error-threshold | moving-basis | "
-             "C++ speed-up over numpy (same transform) |",
-             "| --- | --- | --- | --- | --- | --- | --- | --- | --- |"]
+             "hybrid | hybrid aux | C++ speed-up over numpy (same transform) |",
+             "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |"]
     for (scene, level), rs in sorted(grouped.items()):
         by = {r["label"]: r for r in rs}
         noisy, npy = by["input (noisy)"], by["numpy pca auto"]
@@ -90,7 +90,33 @@ def write(rows, production, docs, command, cores):
                      f"{fmt(pca['rel_mse']) if pca else '-'} | "
                      f"{fmt(noisy['rel_mse'] / pca['rel_mse'], 1) if pca else '-'} | "
                      f"{fmt(et['rel_mse']) if et else '-'} | {fmt(mb['rel_mse']) if mb else '-'} | "
+                     f"{fmt(by['hybrid']['rel_mse']) if 'hybrid' in by else '-'} | "
+                     f"{fmt(by['hybrid aux']['rel_mse']) if 'hybrid aux' in by else '-'} | "
                      f"{fmt(speed, 2)}x |")
+    lines += ["", "## Moving region and still scene", "",
+              "relMSE inside the moving region (reference temporal std > 3x the median) and outside it, and "
+              "compute time relative to `pca auto` on the same frames.", "",
+              "| scene | level | method | moving | static | time / pca |", "| --- | --- | --- | --- | --- | --- |"]
+    for (scene, level), rs in sorted(grouped.items()):
+        by = {r["label"]: r for r in rs}
+        base = by.get(DEFAULTS["pca"])
+        for label in [DEFAULTS["pca"], DEFAULTS["error-threshold"], DEFAULTS["moving-basis"], "diffusion", "hybrid",
+                      "hybrid aux"]:
+            if label in by and base:
+                r = by[label]
+                lines.append(f"| {scene} | {level} | {label} | {fmt(r['rel_mse_moving'])} | {fmt(r['rel_mse_static'])} | "
+                             f"{fmt(r['compute_ms_per_frame'] / base['compute_ms_per_frame'], 2)}x |")
+    if motion:
+        lines += ["", "## Motion detectors against the true moving region", "",
+                  "Each detector's region (alpha < 0.5; beta set in any frame) against the reference's moving "
+                  "region.", "", "| scene | level | detector | flagged | precision | recall | IoU |",
+                  "| --- | --- | --- | --- | --- | --- | --- |"]
+        for m in motion:
+            lines.append(f"| {m['scene']} | {m['level']} | {m['detector']} | {fmt(m['flagged'], 3)} | "
+                         f"{fmt(m['precision'], 3)} | {fmt(m['recall'], 3)} | {fmt(m['iou'], 3)} |")
+    if figure:
+        lines += ["", "## Ghosting", "", "cornell_moving at 4 spp, frame 16, the rolling ball (tonemapped crops):",
+                  "", f"![{figure}]({figure})"]
     lines += ["", "pca auto uses the default log transform; the speed-up compares `pca auto none`, the same "
               "computation as the NumPy yardstick (run in its own process with its best OpenBLAS settings, "
               "best of the repeats). The log transform's own cost is in the tables below "

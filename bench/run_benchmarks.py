@@ -55,6 +55,14 @@ def sweeps(quick):
             configs.append((f"moving-basis h{h} {weights} r{rank}", "moving-basis",
                             {"half_width": str(h), "sigma": str(h / 2), "weights": weights, "rank": rank}))
     configs.append(("moving-basis h8 reconstruction rauto none", "moving-basis", {"transform": "none"}))
+    configs.append(("diffusion", "diffusion", {}))
+    configs.append(("diffusion k1 it20", "diffusion", {"k": "1", "iterations": "20"}))
+    configs.append(("hybrid", "hybrid", {}))
+    configs.append(("hybrid literal", "hybrid", {"reading": "literal"}))
+    configs.append(("hybrid pca", "hybrid", {"temporal": "pca"}))
+    configs.append(("hybrid aux", "hybrid", {"albedo": "{aux}/albedo.####.exr", "normal": "{aux}/normal.####.exr"}))
+    configs.append(("hybrid aux literal", "hybrid", {"albedo": "{aux}/albedo.####.exr", "normal": "{aux}/normal.####.exr",
+                                                     "reading": "literal"}))
     return configs
 
 
@@ -112,19 +120,89 @@ def bench_scene(scene, level, noisy_pattern, ref_pattern, configs, work, repeats
     rows.append(dict(scene=scene, level=level, label="numpy pca auto", method="numpy", rank=np_rank,
                      compute_ms_per_frame=1000 * np_time / frames, cli_s=None, rss_mb=None,
                      **measure(noisy, ref, np_out)))
+    aux = Path(str(noisy_pattern)).parent.parent / "aux"
     for label, method, params in configs:
+        if any("{aux}" in v for v in params.values()):
+            if not aux.is_dir():
+                continue
+            params = {k: v.replace("{aux}", str(aux)) for k, v in params.items()}
         flt = statfilter.Filter(method, **params)
         out, seconds = timed(lambda: flt(noisy), repeats)
         results = {k: v for k, v in flt.results.items() if not isinstance(v, np.ndarray)}
         out_pattern = work / "out.####.exr"
         report_json, rss = run_cli(["denoise", noisy_pattern, out_pattern, "--method", method, "--float",
                                     *[x for k, v in params.items() for x in (f"--{k}", v)]])
-        rows.append(dict(scene=scene, level=level, label=label, method=method, params=params,
+        rows.append(dict(scene=scene, level=level, label=label, method=method,
+                         params={k: v.replace(str(aux), "{aux}") for k, v in params.items()},
                          compute_ms_per_frame=1000 * seconds / frames, cli_s=report_json["seconds"], rss_mb=rss,
                          results=results, **measure(noisy, ref, out)))
         print(f"  {scene}/{level} {label:38s} relMSE {rows[-1]['rel_mse']:.4f} "
               f"{rows[-1]['compute_ms_per_frame']:.2f} ms/frame", file=sys.stderr)
     return rows
+
+
+def true_moving_region(ref):
+    """DESIGN section 7: pixels whose reference luminance varies over time more than 3x the median."""
+    lum = 0.2126 * ref[..., 0] + 0.7152 * ref[..., 1] + 0.0722 * ref[..., 2]
+    std = lum.std(axis=0)
+    return std > 3 * np.median(std)
+
+
+def motion_detectors(scene, level, noisy_pattern, ref_pattern):
+    """Each detector's moving region (any frame) against the true one: precision, recall, IoU."""
+    noisy = statfilter.read_sequence(str(noisy_pattern))
+    truth = true_moving_region(statfilter.read_sequence(str(ref_pattern)))
+    aux = Path(str(noisy_pattern)).parent.parent / "aux"
+    detectors = [("alpha (global)", {}, lambda r: r["alpha"][0, ..., 0] < 0.5),
+                 ("beta z-scores", {"beta_source": "zscore"}, lambda r: r["beta"][..., 0].max(axis=0) > 0.5)]
+    if aux.is_dir():
+        detectors.append(("beta albedo+normal", {"albedo": str(aux / "albedo.####.exr"),
+                                                 "normal": str(aux / "normal.####.exr")},
+                          lambda r: r["beta"][..., 0].max(axis=0) > 0.5))
+    rows = []
+    for name, params, region in detectors:
+        f = statfilter.Filter("motion", **params)
+        f(noisy)
+        found = region(f.results)
+        tp = float((found & truth).sum())
+        rows.append(dict(scene=scene, level=level, detector=name, flagged=float(found.mean()),
+                         precision=tp / max(found.sum(), 1), recall=tp / max(truth.sum(), 1),
+                         iou=tp / max((found | truth).sum(), 1)))
+    return rows
+
+
+def ghosting_figure(data, docs):
+    """Side by side: one frame of the moving ball, noisy, global PCA, moving basis, hybrid, reference."""
+    try:
+        import matplotlib
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+    except ImportError:
+        return None
+    scene = data / "cornell_moving"
+    if not (scene / "spp0004").is_dir():
+        return None
+    noisy = statfilter.read_sequence(str(scene / "spp0004" / "indirect.####.exr"))
+    ref = statfilter.read_sequence(str(scene / "ref" / "indirect.####.exr"))
+    aux = scene / "aux"
+    panels = [("noisy 4 spp", noisy), ("pca auto", statfilter.Filter("pca")(noisy)),
+              ("moving-basis", statfilter.Filter("moving-basis")(noisy)),
+              ("error-threshold", statfilter.Filter("error-threshold")(noisy)),
+              ("hybrid (albedo+normal)", statfilter.Filter("hybrid", albedo=str(aux / "albedo.####.exr"),
+                                                          normal=str(aux / "normal.####.exr"))(noisy)),
+              ("reference", ref)]
+    frame = 16
+    fig, axes = plt.subplots(1, len(panels), figsize=(3.2 * len(panels), 3))
+    for ax, (title, seq) in zip(axes, panels):
+        img = np.clip(seq[frame, 50:120, 20:140, :] / (1 + seq[frame, 50:120, 20:140, :]), 0, 1) ** (1 / 2.2)
+        ax.imshow(img, interpolation="nearest")
+        ax.set_title(title, fontsize=9)
+        ax.axis("off")
+    fig.tight_layout()
+    name = "ghosting_cornell_moving.png"
+    fig.savefig(docs / name, dpi=110)
+    plt.close(fig)
+    return name
 
 
 def production_size(data, work, quick):
@@ -146,6 +224,7 @@ def production_size(data, work, quick):
     floor = time.perf_counter() - t0
     rows = [dict(label="oiiotool read + write (I/O floor)", seconds=floor, rss_mb=None)]
     for label, method, params in [("copy", "copy", {}), ("pca auto", "pca", {"rank": "auto"}),
+                                  ("hybrid", "hybrid", {}),
                                   ("pca auto, memory_mb 64", "pca", {"rank": "auto", "memory_mb": "64"}),
                                   ("error-threshold", "error-threshold", {}),
                                   ("moving-basis", "moving-basis", {})]:
@@ -169,18 +248,21 @@ def main():
     if not args.data.is_dir():
         args.data = ROOT / "sample"
     configs = sweeps(args.quick)
-    repeats = 1 if args.quick else 5
-    rows = []
+    repeats = 1 if args.quick else 3
+    rows, motion = [], []
     with tempfile.TemporaryDirectory() as tmp:
         work = Path(tmp)
         for scene, level, noisy, ref in scenes(args.data):
             rows += bench_scene(scene, level, noisy, ref, configs, work, repeats)
+            motion += motion_detectors(scene, level, noisy, ref)
         production = production_size(args.data, work, args.quick)
+    args.docs.mkdir(exist_ok=True)
+    figure = ghosting_figure(args.data, args.docs)
     command = "python3 bench/run_benchmarks.py" + (" --quick" if args.quick else "")
     args.docs.mkdir(exist_ok=True)
-    (args.docs / "benchmarks.json").write_text(json.dumps(dict(rows=rows, production=production), indent=1,
-                                                          default=float))
-    report.write(rows, production, args.docs, command, os.cpu_count())
+    (args.docs / "benchmarks.json").write_text(json.dumps(dict(rows=rows, motion=motion, production=production),
+                                                          indent=1, default=float))
+    report.write(rows, production, args.docs, command, os.cpu_count(), motion=motion, figure=figure)
 
 
 if __name__ == "__main__":
