@@ -111,13 +111,17 @@ int cmd_denoise(int argc, char** argv) {
     const Args args(argc, argv, 2, kFlags, merged({kInputOptions, kOutputOptions, {"method", "save"}}));
     if (args.flag("help")) {
         std::printf("usage: statfilter denoise IN OUT [--method NAME] [--PARAM VALUE ...] [options]\n\n"
-                    "Filters a frame sequence. Methods and their parameters (from the library):\n");
+                    "Filters a frame sequence (default method %s; %s with --prefilter, e.g.\n"
+                    "--prefilter oidn). Methods and their parameters (from the library):\n",
+                    kDefaultMethod, kDefaultMethodWithPrefilter);
         for (int i = 0; i < sf_filter_count(); ++i) print_parameters(sf_filter_name(i));
         std::printf("\n%s\n%s  --save NAME=PATH[,...]  write image results, e.g. rank_map=ranks.exr (PNG: false colour)\n"
                     "  --json                  report on stdout\n  --quiet, -q\n", kInputHelp, kOutputHelp);
         return 0;
     }
-    return run_filter(args, args.option("method", kDefaultMethod));
+    bool prefiltered = false;
+    for (const auto& [name, value] : args.extras()) prefiltered = prefiltered || (name == "prefilter" && !value.empty());
+    return run_filter(args, args.option("method", prefiltered ? kDefaultMethodWithPrefilter : kDefaultMethod));
 }
 
 }  // namespace statfilter_cli

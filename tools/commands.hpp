@@ -6,6 +6,9 @@ namespace statfilter_cli {
 // The method `denoise` runs when none is given: the lowest error over the benchmark's scenes and
 // levels (docs/benchmarks.md).
 inline constexpr const char* kDefaultMethod = "error-threshold";
+// With --prefilter (e.g. oidn) and no --method: the temporal pass that never raised the error over
+// the prefilter alone, overall or where things move, on every scene and level (docs/oidn.md).
+inline constexpr const char* kDefaultMethodWithPrefilter = "hybrid";
 
 int cmd_info(int argc, char** argv);
 int cmd_copy(int argc, char** argv);

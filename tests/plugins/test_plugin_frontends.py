@@ -74,5 +74,9 @@ def test_cli_prefilter_option(tmp_path):
     first = statfilter.read_sequence(str(b / "p.####.exr"))
     second = statfilter.read_sequence(str(c / "p.####.exr"))
     np.testing.assert_array_equal(first, second)
+    # With a prefilter and no --method, denoise runs the hybrid (docs/oidn.md says why).
+    report = json.loads(run_cli("denoise", noisy, c / "h.####.exr", "--prefilter", "scale", "--frames", "1-6",
+                                "--json").stdout)
+    assert report["method"] == "hybrid"
     bad = run_cli("denoise", noisy, c / "q.####.exr", "--method", "pca", "--prefilter", "nosymbol", "-q", check_rc=1)
     assert "statfilter_nosymbol.so" in bad.stderr and "sf_plugin_entry" in bad.stderr
