@@ -32,6 +32,8 @@ const std::vector<FilterEntry>& filter_registry() {
          [] { return make_motion_filter(); }},
         {"hybrid", "temporal PCA where still, moving basis or single-frame diffusion where things move",
          [] { return make_hybrid_filter(); }},
+        {"auto", "measures how much moves and runs the method the benchmark found best for such a scene",
+         [] { return make_auto_filter(); }},
     };
     return registry;
 }

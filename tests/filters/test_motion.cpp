@@ -2,11 +2,15 @@
 // the extremes (no motion, everything moving, one frame).
 #include <gtest/gtest.h>
 
+#include <unistd.h>
+
+#include <filesystem>
 #include <random>
 
 #include "filter_runner.hpp"
 #include "synthetic.hpp"
 #include "statfilter/motion.hpp"
+#include "statfilter/sequence_io.hpp"
 
 using namespace statfilter;
 using namespace statfilter::test;
@@ -123,4 +127,26 @@ TEST(Hybrid, EverythingMovingAndOneFrame) {
     g.frames = 1;
     const auto one = make_low_rank(g);
     EXPECT_EQ(max_abs_diff(*run_filter("hybrid", *one).output, *one), 0.0);
+}
+
+TEST(Auto, PicksByHowMuchMoves) {
+    std::unique_ptr<Sequence> clean;
+    const auto still = scene(false, swinging, &clean, 0.3);
+    const FilterRun a = run_filter("auto", *still);
+    EXPECT_EQ(a.filter->results().get_string("method"), "pca");
+    EXPECT_EQ(max_abs_diff(*a.output, *run_filter("pca", *still).output), 0.0);
+    const auto moving = scene(true, steady, &clean, 0.3);
+    const FilterRun b = run_filter("auto", *moving);
+    EXPECT_EQ(b.filter->results().get_string("method"), "error-threshold");
+    EXPECT_NE(b.filter->results().get_string("reason").find("no albedo/normal passes"), std::string::npos);
+    // With an albedo pass on disk it runs the hybrid with it.
+    const auto dir = std::filesystem::temp_directory_path() / ("statfilter-auto-" + std::to_string(::getpid()));
+    std::filesystem::create_directories(dir);
+    WriteOptions w;
+    w.half = false;
+    write_sequence(*clean, (dir / "albedo.####.exr").string(), w);
+    const FilterRun c = run_filter("auto", *moving, {{"albedo", (dir / "albedo.####.exr").string()}});
+    std::filesystem::remove_all(dir);
+    EXPECT_EQ(c.filter->results().get_string("method"), "hybrid");
+    EXPECT_EQ(c.filter->results().get_string("hybrid.beta_source"), "aux");
 }
