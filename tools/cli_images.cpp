@@ -59,7 +59,8 @@ void save_image_result(const FilterHandle& filter, const std::string& name, cons
     check(sf_sequence_write(rgb.get(), pattern.c_str(), &o));
 }
 
-void save_image_results(const FilterHandle& filter, const std::string& list, ProgressLine& progress) {
+std::vector<std::pair<std::string, std::string>> parse_save_list(const std::string& list) {
+    std::vector<std::pair<std::string, std::string>> out;
     size_t start = 0;
     while (start < list.size()) {
         size_t comma = list.find(',', start);
@@ -68,9 +69,15 @@ void save_image_results(const FilterHandle& filter, const std::string& list, Pro
         const size_t eq = item.find('=');
         if (eq == std::string::npos || eq == 0 || eq + 1 == item.size())
             throw UsageError("--save takes NAME=PATTERN[,NAME=PATTERN...], got '" + item + "'");
-        save_image_result(filter, item.substr(0, eq), item.substr(eq + 1), progress);
+        out.emplace_back(item.substr(0, eq), item.substr(eq + 1));
         start = comma + 1;
     }
+    return out;
+}
+
+void save_image_results(const FilterHandle& filter, const std::vector<std::pair<std::string, std::string>>& list,
+                        ProgressLine& progress) {
+    for (const auto& [name, pattern] : list) save_image_result(filter, name, pattern, progress);
 }
 
 }  // namespace statfilter_cli

@@ -46,6 +46,7 @@ std::string dashes_to_underscores(std::string s) {
 int run_filter(const Args& args, const std::string& method) {
     if (args.positionals().size() != 2) throw UsageError("expected IN and OUT patterns (see --help)");
     const std::string in = args.positionals()[0], out = args.positionals()[1];
+    const auto saves = parse_save_list(args.option("save"));  // checked before any work
     FilterHandle filter(method);
     // Every --name VALUE that is not a common option is a parameter of the filter.
     for (const auto& [name, value] : args.extras())
@@ -59,7 +60,7 @@ int run_filter(const Args& args, const std::string& method) {
     filter.check(sf_filter_set_progress(filter.get(), &ProgressLine::callback, &progress));
     filter.check(sf_filter_execute(filter.get(), input.get(), output.get()));
     write_output(args, output, out, progress);
-    if (args.has("save")) save_image_results(filter, args.option("save"), progress);
+    save_image_results(filter, saves, progress);
     progress.finish();
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 

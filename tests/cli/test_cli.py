@@ -108,3 +108,29 @@ def test_blender_multipart_layer(tmp_path):
     full = {c["name"]: c for c in report["channels"]}
     for c in layer["channels"]:
         assert c["mean"] == pytest.approx(full["ViewLayer.Diffuse Indirect." + c["name"]]["mean"], rel=1e-6)
+
+
+def test_motion_maps_and_previews(sample_noisy, tmp_path):
+    proc = run("motion", sample_noisy, "--frames", "1-8", "--alpha", tmp_path / "alpha.exr",
+               "--beta", tmp_path / "beta.####.exr", "--alpha-preview", tmp_path / "alpha.png",
+               "--beta-preview", tmp_path / "beta.####.png", "--json")
+    report = json.loads(proc.stdout)
+    assert 0 <= report["moving_fraction"] <= 1 and report["beta_source"] == "zscore"
+    assert (tmp_path / "alpha.exr").is_file() and (tmp_path / "alpha.png").is_file()
+    assert len(list(tmp_path.glob("beta.*.exr"))) == 8 and len(list(tmp_path.glob("beta.*.png"))) == 8
+    alpha = json.loads(run("info", tmp_path / "alpha.exr", "--json").stdout)
+    assert [c["name"] for c in alpha["channels"]] == ["alpha"]
+    assert 0 <= alpha["channels"][0]["min"] and alpha["channels"][0]["max"] <= 1
+
+
+def test_save_image_results_and_auto(small_sequence, tmp_path):
+    report = json.loads(run("denoise", small_sequence / "noisy.####.exr", tmp_path / "d.####.exr",
+                            "--method", "auto", "--json").stdout)
+    assert report["results"]["method"] in ("pca", "error-threshold") and report["results"]["reason"]
+    run("denoise", small_sequence / "noisy.####.exr", tmp_path / "e.####.exr", "--method", "error-threshold",
+        "--save", f"rank_map={tmp_path / 'ranks.exr'}", "-q")
+    ranks = json.loads(run("info", tmp_path / "ranks.exr", "--json").stdout)
+    assert ranks["channels"][0]["name"] == "rank" and ranks["channels"][0]["max"] <= 8
+    bad = run("denoise", small_sequence / "noisy.####.exr", tmp_path / "f.####.exr", "--save", "oops", check_rc=2)
+    assert "NAME=PATTERN" in bad.stderr
+    assert not list(tmp_path.glob("f.*.exr"))  # refused before any work
