@@ -1,6 +1,8 @@
 // The oidn filter plugin: Intel Open Image Denoise's "RT" filter on every frame, HDR colour with
 // optional albedo and normal guides. A single-frame filter, so it can be any temporal filter's
 // prefilter (statfilter denoise IN OUT --method pca --prefilter oidn).
+#include <dlfcn.h>
+
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -226,9 +228,24 @@ sf_status guarded(char* error, size_t size, Body&& body) noexcept {
     }
 }
 
+// OIDN's TBB loads libtbbbind with RTLD_DEEPBIND, which the AddressSanitizer runtime refuses by
+// aborting the process: in a sanitized process, say so instead of letting that happen.
+bool under_address_sanitizer() { return dlsym(RTLD_DEFAULT, "__asan_init") != nullptr; }
+
+// The library, or why the plugin cannot run here.
+const OidnApi* usable_api(std::string& why) {
+    const OidnApi* api = oidn_api(why);
+    if (api && under_address_sanitizer()) {
+        why = "OIDN cannot run under AddressSanitizer: its TBB opens libtbbbind with RTLD_DEEPBIND, which "
+              "the sanitizer runtime refuses";
+        return nullptr;
+    }
+    return api;
+}
+
 sf_status probe(char* error, size_t size) {
     std::string why;
-    if (oidn_api(why)) return SF_OK;
+    if (usable_api(why)) return SF_OK;
     write_message(error, size, why);
     return SF_ERROR_UNSUPPORTED;
 }
@@ -236,7 +253,7 @@ sf_status probe(char* error, size_t size) {
 sf_status create(void** instance, char* error, size_t size) {
     return guarded(error, size, [&] {
         std::string why;
-        const OidnApi* api = oidn_api(why);
+        const OidnApi* api = usable_api(why);
         if (!api) throw OidnFailure(SF_ERROR_UNSUPPORTED, why);
         *instance = new Denoiser(*api);
     });
