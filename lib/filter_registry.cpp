@@ -34,6 +34,8 @@ const std::vector<FilterEntry>& filter_registry() {
          [] { return make_hybrid_filter(); }},
         {"auto", "measures how much moves and runs the method the benchmark found best for such a scene",
          [] { return make_auto_filter(); }},
+        {"detect", "artifact detection: the pixel-frames still wrong after denoising (mask, crop windows, degree map)",
+         [] { return make_detect_filter(); }},
     };
     return registry;
 }

@@ -14,6 +14,7 @@ std::unique_ptr<Filter> make_diffusion_filter();
 std::unique_ptr<Filter> make_motion_filter();
 std::unique_ptr<Filter> make_hybrid_filter();
 std::unique_ptr<Filter> make_auto_filter();
+std::unique_ptr<Filter> make_detect_filter();
 
 // The mean of a one-channel map (e.g. the share of pixels alpha calls moving).
 double mean_of_map(const Sequence& map);

@@ -1,7 +1,9 @@
 // A filter reads one sequence and writes another of the same shape, configured by named parameters.
 #pragma once
+#include <map>
 #include <string>
 
+#include "statfilter/error.hpp"
 #include "statfilter/params.hpp"
 #include "statfilter/progress.hpp"
 #include "statfilter/sequence.hpp"
@@ -20,13 +22,32 @@ public:
     // Checks shapes, runs the filter, and carries names, frame numbers and metadata to the output.
     void execute(const Sequence& input, Sequence& output, const Progress& progress);
 
+    // Named extra inputs besides the main one (e.g. detect's "noisy"), as the filter declares them
+    // with accept_input. Not owned: the caller keeps the sequence alive while it is set; nullptr
+    // clears it. Unknown names throw Error(NotFound) listing the accepted ones.
+    void set_input(const std::string& name, const Sequence* sequence) {
+        if (!inputs_.count(name)) {
+            std::string known;
+            for (const auto& [n, s] : inputs_) known += (known.empty() ? "" : ", ") + n;
+            throw Error(Status::NotFound, "this filter takes no input named '" + name + "'" +
+                                              (known.empty() ? std::string(" (it takes none)") : " (inputs: " + known + ")"));
+        }
+        inputs_[name] = sequence;
+    }
+    const Sequence* input(const std::string& name) const {
+        auto it = inputs_.find(name);
+        return it == inputs_.end() ? nullptr : it->second;
+    }
+
 protected:
+    void accept_input(const std::string& name) { inputs_.emplace(name, nullptr); }
     virtual void run(const Sequence& input, Sequence& output, const Progress& progress) = 0;
     Results& mutable_results() { return results_; }
 
 private:
     ParamSet params_;
     Results results_;
+    std::map<std::string, const Sequence*> inputs_;
 };
 
 }  // namespace statfilter
