@@ -171,9 +171,25 @@ class sf_plugin(Structure):
 
 sf_plugin_entry_fn = CFUNCTYPE(POINTER(sf_plugin))
 
+
+class sf_crop_window(Structure):
+    _fields_ = [("frame", c_int64), ("index", c_int64), ("x", c_int64), ("y", c_int64), ("width", c_int64),
+                ("height", c_int64)]
+
+
+class sf_merge_options(Structure):
+    _fields_ = [("struct_size", c_size_t),
+                ("crops", c_char_p),
+                ("mask", sf_sequence),
+                ("feather", c_int64),
+                ("progress", sf_progress_callback),
+                ("progress_user", c_void_p)]
+
+
 STRUCTS = {cls.__name__: cls for cls in (sf_shape, sf_strides, sf_channel_stats, sf_comparison, sf_read_options,
                                          sf_write_options, sf_param_info, sf_filter_info, sf_plugin_run,
                                          sf_plugin)}
+STRUCTS.update({cls.__name__: cls for cls in (sf_crop_window, sf_merge_options)})
 
 # ---- functions: name -> (restype, [argtypes]) -------------------------------------------------
 
@@ -230,6 +246,11 @@ FUNCTIONS = {
     "sf_filter_result_sequence": (sf_status, [sf_filter, c_char_p, _P(sf_sequence)]),
     "sf_filter_set_progress": (sf_status, [sf_filter, sf_progress_callback, c_void_p]),
     "sf_filter_execute": (sf_status, [sf_filter, sf_sequence, sf_sequence]),
+    # artifact detection, re-render list and merge
+    "sf_filter_set_input": (sf_status, [sf_filter, c_char_p, sf_sequence]),
+    "sf_crops_windows": (sf_status, [c_char_p, _P(sf_crop_window), c_size_t, _P(c_size_t), _P(c_int64), _P(c_int64)]),
+    "sf_merge_options_init": (None, [_P(sf_merge_options)]),
+    "sf_merge": (sf_status, [sf_sequence, sf_sequence, _P(sf_merge_options), sf_sequence, _P(c_int64)]),
     # filter plugins and the filter listing
     "sf_filter_info_init": (None, [_P(sf_filter_info)]),
     "sf_filter_info_count": (c_int, []),

@@ -4,6 +4,7 @@ Nothing here knows any particular filter: parameters are listed and set through 
 named-parameter calls, so new filters and parameters need no Python change.
 """
 
+import contextlib
 import ctypes
 import numbers
 
@@ -221,9 +222,14 @@ class Filter:
 
     # ---- running -----------------------------------------------------------------------------
 
-    def __call__(self, array, out=None, progress=None):
+    def __call__(self, array, out=None, progress=None, inputs=None):
+        """Run the filter on ``array``. ``inputs`` maps the names of the filter's extra inputs to
+        arrays of the input's shape, e.g. ``{"noisy": noisy}`` for the detect filter."""
         handle = self._live()
         source = _arrays.as_input(array, "input")
+        extra = {}
+        for name, value in (inputs or {}).items():
+            extra[str(name)] = _arrays.as_input(value, "input '%s'" % name)
         if out is None:
             out = np.empty(source.shape, dtype=np.float32)
         if not isinstance(out, np.ndarray):
@@ -244,7 +250,13 @@ class Filter:
 
         adapter = ProgressAdapter(progress)
         self.results = {}
-        with _arrays.WrappedSequence(source) as seq_in, _arrays.WrappedSequence(target) as seq_out:
+        with _arrays.WrappedSequence(source) as seq_in, _arrays.WrappedSequence(target) as seq_out, \
+                contextlib.ExitStack() as stack:
+            wrapped = {name: stack.enter_context(_arrays.WrappedSequence(a)) for name, a in extra.items()}
+            for name, seq in wrapped.items():
+                # Cleared again before the wrapped memory goes away (callbacks run last in, first out).
+                stack.callback(_capi.lib.sf_filter_set_input, handle, _capi.encode(name), _capi.sf_sequence())
+                self._check(_capi.lib.sf_filter_set_input(handle, _capi.encode(name), seq.handle))
             if progress is not None:
                 self._check(_capi.lib.sf_filter_set_progress(handle, adapter.c_function, None))
             try:

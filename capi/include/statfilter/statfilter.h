@@ -360,6 +360,61 @@ SF_API sf_status sf_filter_info_at(int index, sf_filter_info* info);
 /* The same for one name: loads the plugin if needed. SF_ERROR_NOT_FOUND if no such filter. */
 SF_API sf_status sf_filter_info_get(const char* name, sf_filter_info* info);
 
+/* ---- artifact detection, re-render list and merge ----------------------------------------- */
+
+/* Named extra inputs of a filter, besides the main one passed to sf_filter_execute: e.g. the
+ * "detect" filter checks a denoised sequence (its main input) against the noisy render it was made
+ * from, set as its input "noisy". The filter does not copy or own the sequence: it must stay alive
+ * (not released) until the input is cleared (sequence NULL), replaced, or the filter released.
+ * A name the filter does not take fails with SF_ERROR_NOT_FOUND listing the names it takes.
+ *
+ * The "detect" filter writes its input unchanged to its output; its results are the images "mask"
+ * (F x H x W x 1, 1 = re-render this pixel-frame), "score" (the estimated relMSE of each
+ * pixel-frame) and "degree_map" (1 x H x W x 1, the polynomial degree each pixel needed), the text
+ * "crops" (the crop windows as JSON, see docs/methods.md) and counts such as "flagged_fraction". */
+SF_API sf_status sf_filter_set_input(sf_filter filter, const char* name, sf_sequence sequence);
+
+/* One crop window of a crop-window JSON document: a pixel rectangle of one frame, row 0 at the top. */
+typedef struct sf_crop_window {
+    int64_t frame;  /* frame number, as on disk */
+    int64_t index;  /* the window's position within its frame, 0, 1, ... */
+    int64_t x;
+    int64_t y;
+    int64_t width;
+    int64_t height;
+} sf_crop_window;
+
+/* The windows of a crop-window JSON document (as the detect filter's "crops" result), by frame then
+ * position. Two-call idiom: with windows == NULL, *count gets how many there are; otherwise up to
+ * capacity are written and *count gets how many were written. A malformed document, or a window
+ * outside the frame size it declares, fails with SF_ERROR_INVALID_ARGUMENT naming the frame and
+ * window. width and height (may be NULL) get the frame size the document declares. */
+SF_API sf_status sf_crops_windows(const char* crops_json, sf_crop_window* windows, size_t capacity, size_t* count,
+                                  int64_t* width, int64_t* height);
+
+typedef struct sf_merge_options {
+    size_t struct_size;         /* sizeof(sf_merge_options), set by sf_merge_options_init */
+    const char* crops;          /* crop-window JSON text; NULL = none */
+    sf_sequence mask;           /* per-frame mask, non-zero = flagged; NULL = none */
+    int64_t feather;            /* the re-render's weight rises over this many pixels inside the edge
+                                   of the replaced region; 0 (default) = hard edge */
+    sf_progress_callback progress;
+    void* progress_user;
+} sf_merge_options;
+
+SF_API void sf_merge_options_init(sf_merge_options* options);
+
+/* output = denoised with re-rendered pixels spliced in. The replaced region of each frame is the
+ * union of its crop windows, or the mask's flagged pixels, or with both the mask's pixels (which must
+ * lie inside the windows); at least one must be given. rerender holds full-size frames matched to
+ * the denoised frames by frame number; it needs each frame that has a region (other pixels are not
+ * read, so crop-window renders can be pasted into blank frames). output has the denoised shape and
+ * may be the denoised sequence itself. Mismatched sizes or channels, a frame missing from the
+ * re-render, windows outside the frame, an empty region: SF_ERROR_INVALID_ARGUMENT, output untouched.
+ * replaced (may be NULL) gets how many pixel-frames took re-rendered values. */
+SF_API sf_status sf_merge(sf_sequence denoised, sf_sequence rerender, const sf_merge_options* options,
+                          sf_sequence output, int64_t* replaced);
+
 #ifdef __cplusplus
 }
 #endif
