@@ -16,5 +16,7 @@ int cmd_denoise(int argc, char** argv);
 int cmd_compare(int argc, char** argv);
 int cmd_plugins(int argc, char** argv);
 int cmd_motion(int argc, char** argv);
+int cmd_detect(int argc, char** argv);
+int cmd_merge(int argc, char** argv);
 
 }  // namespace statfilter_cli

@@ -20,6 +20,8 @@ const char* const kUsage =
     "  copy IN OUT         read and write a sequence unchanged (checks the whole path)\n"
     "  denoise IN OUT      filter a sequence (--method, parameters: statfilter denoise --help)\n"
     "  motion IN           motion maps: alpha (1 = still) and beta (per frame, 1 = moving)\n"
+    "  detect DENOISED     pixel-frames still wrong after denoising: mask, crop windows (--noisy NOISY)\n"
+    "  merge DEN RR OUT    splice re-rendered pixels (full frames or crop windows) into the denoised\n"
     "  compare TEST REF    error of a sequence against a reference (relMSE, PSNR, flicker)\n"
     "  plugins             every filter, built-in or plugin: kind, version, origin, parameters\n"
     "  version             print the library version\n"
@@ -43,6 +45,8 @@ int main(int argc, char** argv) {
         if (command == "compare") return cmd_compare(argc, argv);
         if (command == "plugins") return cmd_plugins(argc, argv);
         if (command == "motion") return cmd_motion(argc, argv);
+        if (command == "detect") return cmd_detect(argc, argv);
+        if (command == "merge") return cmd_merge(argc, argv);
         if (command == "version" || command == "--version") {
             std::printf("statfilter %s\n", sf_version_string());
             return 0;
