@@ -36,6 +36,10 @@ public:
                          "safe: moving basis where no local motion now, diffusion where there is; "
                          "literal (the study's slide): moving basis where beta says motion"),
             int_param("mb_half_width", "8", 1, 10000, "moving basis: window half-width in frames"),
+            ParamSpec{"single_frame", ParamType::String, "diffusion",
+                      "the single-frame stage: diffusion (on the moving pixels' bounding boxes only) or any "
+                      "single-frame filter or plugin, e.g. oidn (on the frames that need it)",
+                      0, 0, {}, false, ""},
         };
         for (auto& c : motion_params()) p.push_back(c);
         for (auto& c : diffusion_params()) p.push_back(c);
@@ -75,7 +79,9 @@ protected:
         }
         output.copy_samples_from(base);
         const auto mb = moving_basis_on(input, mb_pixels, progress);
-        const double sf_fraction = blend_diffusion(input, w_sf, output, progress);
+        const std::string single_frame = params().get_string("single_frame");
+        const double sf_fraction = single_frame == "diffusion" ? blend_diffusion(input, w_sf, output, progress)
+                                                               : blend_single_frame(single_frame, input, w_sf, output, progress);
         for (size_t i = 0; i < mb_pixels.size(); ++i) {
             const int64_t p = mb_pixels[i], y = p / s.width, x = p % s.width;
             for (int64_t f = 0; f < s.frames; ++f) {
@@ -116,6 +122,44 @@ private:
             return true;
         }));
         return out;
+    }
+
+    // Runs a single-frame filter (e.g. the oidn plugin) on the frames with a non-zero weight and blends
+    // it in; returns the share of frames it ran on.
+    double blend_single_frame(const std::string& name, const Sequence& input, const std::vector<float>& w_sf,
+                              Sequence& output, const Progress& progress) {
+        if (find_filter(name).kind != FilterKind::SingleFrame)
+            throw Error(Status::InvalidArgument, "single_frame '" + name + "' is not a single-frame filter");
+        const Shape& s = input.shape();
+        const int64_t P = s.pixels();
+        std::vector<int64_t> frames;
+        for (int64_t f = 0; f < s.frames; ++f)
+            if (std::any_of(w_sf.begin() + f * P, w_sf.begin() + (f + 1) * P, [](float w) { return w > 0; })) frames.push_back(f);
+        if (frames.empty()) return 0.0;
+        Sequence subset(Shape{static_cast<int64_t>(frames.size()), s.height, s.width, s.channels});
+        std::vector<float> buffer(static_cast<size_t>(P * s.channels));
+        for (size_t i = 0; i < frames.size(); ++i) {
+            input.get_frame(frames[i], buffer.data());
+            subset.set_frame(static_cast<int64_t>(i), buffer.data());
+            subset.frame_numbers()[i] = input.frame_numbers()[frames[i]];
+        }
+        subset.channel_names() = input.channel_names();
+        auto filter = create_filter(name);
+        Sequence filtered(subset.shape());
+        filter->execute(subset, filtered, Progress([&](double f, const char* stage) {
+            progress.report(0.8 + 0.2 * f, stage);
+            return true;
+        }));
+        for (size_t i = 0; i < frames.size(); ++i)
+            for (int64_t p = 0; p < P; ++p) {
+                const float w = w_sf[frames[i] * P + p];
+                if (w <= 0) continue;
+                for (int64_t c = 0; c < s.channels; ++c) {
+                    float& o = output.at(frames[i], p / s.width, p % s.width, c);
+                    o += w * (filtered.at(static_cast<int64_t>(i), p / s.width, p % s.width, c) - o);
+                }
+            }
+        return static_cast<double>(frames.size()) / static_cast<double>(s.frames);
     }
 
     // Diffuses each frame's bounding box of pixels with a diffusion weight (plus a halo the diffusion

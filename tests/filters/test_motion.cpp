@@ -9,6 +9,7 @@
 
 #include "filter_runner.hpp"
 #include "synthetic.hpp"
+#include "statfilter/error.hpp"
 #include "statfilter/motion.hpp"
 #include "statfilter/sequence_io.hpp"
 
@@ -149,4 +150,23 @@ TEST(Auto, PicksByHowMuchMoves) {
     std::filesystem::remove_all(dir);
     EXPECT_EQ(c.filter->results().get_string("method"), "hybrid");
     EXPECT_EQ(c.filter->results().get_string("hybrid.beta_source"), "aux");
+}
+
+TEST(Hybrid, AnySingleFrameFilterCanBeItsSingleFrameStage) {
+    std::unique_ptr<Sequence> clean;
+    const auto seq = scene(true, steady, &clean, 0.5);
+    const FilterRun diffused = run_filter("hybrid", *seq);
+    // "copy" is single-frame too: the moving-now pixels then keep their noisy values; far from the
+    // moving square the two agree exactly, since only pixels with a single-frame weight change.
+    const FilterRun copied = run_filter("hybrid", *seq, {{"single_frame", "copy"}});
+    EXPECT_GT(copied.result("diffusion_fraction"), 0.0);
+    EXPECT_GT(max_abs_diff(*copied.output, *diffused.output), 0.0);
+    double far = 0;
+    for (int64_t f = 0; f < kF; ++f)
+        for (int64_t y = 0; y < 6; ++y)
+            for (int64_t x = 0; x < kW; ++x)
+                for (int64_t c = 0; c < 3; ++c)
+                    far = std::max(far, std::fabs(double(copied.output->at(f, y, x, c)) - diffused.output->at(f, y, x, c)));
+    EXPECT_EQ(far, 0.0);
+    EXPECT_THROW(run_filter("hybrid", *seq, {{"single_frame", "pca"}}), Error);
 }
