@@ -99,7 +99,8 @@ def main():
 
     lines = ["Command: `python3 bench/oidn_benchmark.py --build %s` (%s; %d CPU threads; OIDN from %s)\n" % (
         os.path.relpath(args.build, ROOT), "data: " + str(args.data.name), os.cpu_count(),
-        os.environ.get("STATFILTER_OIDN_LIBRARY", "the plugin's search")),
+        # Only the file name: a machine's own paths do not belong in the docs.
+        os.path.basename(os.environ.get("STATFILTER_OIDN_LIBRARY", "")) or "the plugin's search"),
         "### OIDN then a temporal filter, as a ratio to OIDN alone (below 1 is better)\n",
         "| scene | level | temporal filter | relMSE | relMSE moving | jitter | flicker |",
         "|---|---|---|---|---|---|---|"]
