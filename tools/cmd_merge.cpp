@@ -40,6 +40,7 @@ std::string pattern_for_frame(const std::string& pattern, int64_t frame) {
     return out;
 }
 
+// The returned options point into channels and frames: keep both alive while they are used.
 sf_read_options plain_read_options(const std::string& channels, const std::string& frames, ProgressLine& progress) {
     sf_read_options o;
     sf_read_options_init(&o);
@@ -146,7 +147,8 @@ int cmd_merge(int argc, char** argv) {
     read_input(args, den_pattern, progress, denoised);
     const sf_shape shape = denoised.shape();
     if (args.has("mask")) {
-        const sf_read_options o = plain_read_options("", args.option("frames"), progress);
+        const std::string frame_list = args.option("frames");  // outlives the read, as the options need
+        const sf_read_options o = plain_read_options("", frame_list, progress);
         check(sf_sequence_read(args.option("mask").c_str(), &o, mask.out()));
     }
 
@@ -178,7 +180,9 @@ int cmd_merge(int argc, char** argv) {
         if (windows.empty()) throw UsageError("a RERENDER pattern with {window} needs --crops");
         read_window_renders(rr_pattern, windows, shape, args.option("channels"), progress, rerender);
     } else {
-        const sf_read_options o = plain_read_options(args.option("channels"), frame_list_text(frames), progress);
+        // The options point into these strings: they must outlive the read.
+        const std::string channels = args.option("channels"), frame_list = frame_list_text(frames);
+        const sf_read_options o = plain_read_options(channels, frame_list, progress);
         check(sf_sequence_read(rr_pattern.c_str(), &o, rerender.out()));
     }
 
