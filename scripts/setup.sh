@@ -7,6 +7,7 @@ APT_PACKAGES=(
   build-essential cmake ninja-build pkg-config
   libopencv-dev libopenimageio-dev openimageio-tools libopenexr-dev libopencolorio-dev
   liblapacke-dev libopenblas-dev libgtest-dev abigail-tools
+  time  # /usr/bin/time: peak memory in bench/
 )
 PY_PACKAGES=(numpy pytest)  # and pyoidn, below
 
@@ -23,15 +24,22 @@ if [ ${#missing[@]} -gt 0 ]; then
 fi
 
 PYTHON="${PYTHON:-python3}"
+# A Debian system Python refuses plain pip installs (PEP 668); retry the way Debian allows.
+pip_install() {
+  "$PYTHON" -m pip install -q "$@" 2>/dev/null || "$PYTHON" -m pip install -q --break-system-packages "$@"
+}
 if ! "$PYTHON" -c "import numpy, pytest" 2>/dev/null; then
   echo "setup: installing ${PY_PACKAGES[*]} for $PYTHON" >&2
-  "$PYTHON" -m pip install -q "${PY_PACKAGES[@]}"
+  pip_install "${PY_PACKAGES[@]}"
 fi
 
 # pyoidn ships libOpenImageDenoise, which the oidn plugin loads at run time (its tests skip without
-# it). Looked up without importing it; a failed install is a warning, not a failure: statfilter
-# builds and passes its other tests without OIDN.
+# it). Looked up without importing it. For a user a failed install is a warning (statfilter builds
+# and passes its other tests without OIDN); in CI it is an error, so the plugin's tests cannot rot.
 if ! "$PYTHON" -c "import importlib.util, sys; sys.exit(importlib.util.find_spec('pyoidn') is None)" 2>/dev/null; then
   echo "setup: installing pyoidn (Intel Open Image Denoise) for $PYTHON" >&2
-  "$PYTHON" -m pip install -q pyoidn || echo "setup: WARNING: pip install pyoidn failed; the oidn plugin's tests will skip" >&2
+  if ! pip_install pyoidn; then
+    [ "${CI:-}" = "true" ] && { echo "setup: pip install pyoidn failed" >&2; exit 1; }
+    echo "setup: WARNING: pip install pyoidn failed; the oidn plugin's tests will skip" >&2
+  fi
 fi
