@@ -108,18 +108,19 @@ def numpy_reference(noisy, work, repeats):
     return np.load(work / "out.npy"), rep["rank"], rep["seconds"]
 
 
-def bench_scene(scene, level, noisy_pattern, ref_pattern, configs, work, repeats):
+def bench_scene(scene, level, noisy_pattern, ref_pattern, configs, work, repeats, baselines=True):
     noisy = statfilter.read_sequence(str(noisy_pattern))
     ref = statfilter.read_sequence(str(ref_pattern))
     frames = noisy.shape[0]
     rows = []
-    base = measure(noisy, ref, noisy)
-    rows.append(dict(scene=scene, level=level, label="input (noisy)", method="input", compute_ms_per_frame=0,
-                     cli_s=None, rss_mb=None, **base))
-    np_out, np_rank, np_time = numpy_reference(noisy, work, repeats)
-    rows.append(dict(scene=scene, level=level, label="numpy pca auto", method="numpy", rank=np_rank,
-                     compute_ms_per_frame=1000 * np_time / frames, cli_s=None, rss_mb=None,
-                     **measure(noisy, ref, np_out)))
+    if baselines:
+        base = measure(noisy, ref, noisy)
+        rows.append(dict(scene=scene, level=level, label="input (noisy)", method="input", compute_ms_per_frame=0,
+                         cli_s=None, rss_mb=None, **base))
+        np_out, np_rank, np_time = numpy_reference(noisy, work, repeats)
+        rows.append(dict(scene=scene, level=level, label="numpy pca auto", method="numpy", rank=np_rank,
+                         compute_ms_per_frame=1000 * np_time / frames, cli_s=None, rss_mb=None,
+                         **measure(noisy, ref, np_out)))
     aux = Path(str(noisy_pattern)).parent.parent / "aux"
     for label, method, params in configs:
         if any("{aux}" in v for v in params.values()):
@@ -239,16 +240,43 @@ def production_size(data, work, quick):
     return dict(frames=frames, width=1920, height=1080, rows=rows)
 
 
+def update_only(args, configs, repeats):
+    """Re-measures some configurations and merges them into docs/benchmarks.json and the report."""
+    old = json.loads((args.docs / "benchmarks.json").read_text())
+    fresh = []
+    with tempfile.TemporaryDirectory() as tmp:
+        for scene, level, noisy, ref in scenes(args.data):
+            fresh += bench_scene(scene, level, noisy, ref, configs, Path(tmp), repeats, baselines=False)
+    key = lambda r: (r["scene"], r["level"], r["label"])
+    replaced = {key(r) for r in fresh}
+    rows = [r for r in old["rows"] if key(r) not in replaced]
+    for r in fresh:  # keep each scene's rows in the sweep's order
+        rows.append(r)
+    order = {label: i for i, (label, _, _) in enumerate(sweeps(False))}
+    rows.sort(key=lambda r: (r["scene"], r["level"], -1 if r["method"] in ("input", "numpy") else order.get(r["label"], 999)))
+    (args.docs / "benchmarks.json").write_text(json.dumps(dict(old, rows=rows), indent=1, default=float))
+    command = "python3 bench/run_benchmarks.py, then python3 bench/run_benchmarks.py " + " ".join(
+        f"--only '{p}'" for p in args.only)
+    report.write(rows, old.get("production"), args.docs, command, os.cpu_count(), motion=old.get("motion"),
+                 figure=ghosting_figure(args.data, args.docs))
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--data", type=Path, default=ROOT.parent / "shared" / "data")
     parser.add_argument("--docs", type=Path, default=ROOT / "docs")
     parser.add_argument("--quick", action="store_true", help="fewer configurations, one repeat")
+    parser.add_argument("--only", action="append", metavar="PREFIX",
+                        help="re-measure only the configurations whose label starts with PREFIX (with pca auto "
+                             "log, the time base, in the same run) and merge them into the existing results")
     args = parser.parse_args()
     if not args.data.is_dir():
         args.data = ROOT / "sample"
     configs = sweeps(args.quick)
     repeats = 1 if args.quick else 3
+    if args.only:
+        update_only(args, [c for c in configs if c[0] == "pca auto log" or c[0].startswith(tuple(args.only))], repeats)
+        return
     rows, motion = [], []
     with tempfile.TemporaryDirectory() as tmp:
         work = Path(tmp)

@@ -5,10 +5,13 @@
 // single-frame filter (reading "safe", s = 1 - beta). Both are here, measured in docs/methods.md.
 // I_MB and I_SF are computed only where their weight is non-zero: the moving basis on a compact
 // sequence of just those pixels, diffusion on each frame's bounding box of them (plus a halo as wide
-// as the diffusion reaches), so a still scene costs about what the temporal filter costs.
+// as the diffusion reaches). When alpha says (almost) nothing moves, the basis computed for alpha
+// reconstructs the sequence directly (global PCA, automatic rank): a still scene costs about what
+// `pca` costs.
 #include <algorithm>
 
 #include "filters/builtin_filters.hpp"
+#include "filters/low_rank_reconstruction.hpp"
 #include "filters/motion_analysis.hpp"
 #include "filters/temporal_params.hpp"
 #include "statfilter/anisotropic_diffusion.hpp"
@@ -36,6 +39,8 @@ public:
                          "safe: moving basis where no local motion now, diffusion where there is; "
                          "literal (the study's slide): moving basis where beta says motion"),
             int_param("mb_half_width", "8", 1, 10000, "moving basis: window half-width in frames"),
+            float_param("still_fraction", "0.01", 0, 1,
+                        "below this share of moving pixels (1 - mean alpha) only global PCA runs: a still scene"),
             ParamSpec{"single_frame", ParamType::String, "diffusion",
                       "the single-frame stage: diffusion (on the moving pixels' bounding boxes only) or any "
                       "single-frame filter or plugin, e.g. oidn (on the frames that need it)",
@@ -50,7 +55,27 @@ public:
 protected:
     void run(const Sequence& input, Sequence& output, const Progress& progress) override {
         const Shape& s = input.shape();
-        const MotionMaps maps = compute_motion(input, params(), {progress, 0.0, 0.3, "motion"});
+        const TemporalSetup setup = temporal_setup(params());
+        check_nonfinite(input, setup.nonfinite);
+        // One basis serves alpha and, when nothing moves, the reconstruction itself.
+        PreparedSeries series(input, ChannelSelection::all(s), setup.prep, setup.budget_bytes, 2);
+        const TemporalBasis basis = compute_temporal_basis(series, {progress, 0.0, 0.2, "motion"});
+        MotionMaps maps;
+        maps.alpha = compute_alpha(series, basis, params(), {progress, 0.2, 0.1, "motion"});
+        const double moving = 1.0 - mean_of_map(*maps.alpha);
+        mutable_results().set("motion_fraction", moving);
+        mutable_results().set_image("alpha", maps.alpha);
+        if (moving < params().get_float("still_fraction") && setup.shared_basis) {
+            // A still scene: global PCA (automatic rank) from the basis at hand is all it requires.
+            const RankChoice rank = gavish_donoho_rank(basis.eigenvalues, basis.series, basis.frames);
+            reconstruct_low_rank(series, output, basis, rank.rank, nullptr, {progress, 0.3, 0.7, "reconstruct"});
+            mutable_results().set("beta_source", "none (still scene)");
+            mutable_results().set("moving_basis_fraction", 0.0);
+            mutable_results().set("diffusion_fraction", 0.0);
+            mutable_results().set("temporal_rank", static_cast<double>(rank.rank));
+            return;
+        }
+        compute_beta(input, params(), maps);
 
         auto temporal = create_filter(params().get_string("temporal"));
         pass_common(params(), *temporal);
@@ -90,13 +115,11 @@ protected:
                     output.at(f, y, x, c) += w * (mb->at(f, 0, static_cast<int64_t>(i), c) - base.at(f, y, x, c));
             }
         }
-        mutable_results().set("motion_fraction", 1.0 - mean_of_map(*maps.alpha));
         mutable_results().set("beta_source", maps.beta_source);
         mutable_results().set("moving_basis_fraction", static_cast<double>(mb_pixels.size()) / P);
         mutable_results().set("diffusion_fraction", sf_fraction);
         for (const auto& name : temporal->results().names())
             if (name == "rank" || name == "mean_rank") mutable_results().set("temporal_" + name, temporal->results().get_string(name));
-        mutable_results().set_image("alpha", maps.alpha);
         mutable_results().set_image("beta", maps.beta);
         progress.report(1.0, "hybrid");
     }

@@ -41,11 +41,8 @@ std::shared_ptr<Sequence> aux_motion(const Sequence& input, const std::string& p
 
 }  // namespace
 
-MotionMaps compute_motion(const Sequence& input, const ParamSet& params, const ProgressSpan& progress) {
-    const TemporalSetup setup = temporal_setup(params);
-    check_nonfinite(input, setup.nonfinite);
-    PreparedSeries series(input, ChannelSelection::all(input.shape()), setup.prep, setup.budget_bytes, 2);
-    const TemporalBasis basis = compute_temporal_basis(series, {progress.progress, progress.start, progress.span / 3, "motion"});
+std::shared_ptr<Sequence> compute_alpha(PreparedSeries& series, const TemporalBasis& basis, const ParamSet& params,
+                                        const ProgressSpan& progress) {
     const double sigma = gavish_donoho_rank(basis.eigenvalues, basis.series, basis.frames).noise_sigma;
     GlobalMotionOptions g;
     g.components = static_cast<int>(params.get_int("components"));
@@ -54,9 +51,10 @@ MotionMaps compute_motion(const Sequence& input, const ParamSet& params, const P
     g.high = params.get_float("alpha_high");
     g.window = static_cast<int>(params.get_int("alpha_window"));
     if (!(g.high > g.low)) throw Error(Status::InvalidArgument, "alpha_high must be above alpha_low");
-    MotionMaps maps;
-    maps.alpha = global_motion_map(series, basis, sigma, g,
-                                   {progress.progress, progress.start + progress.span / 3, progress.span / 3, "motion"});
+    return global_motion_map(series, basis, sigma, g, progress);
+}
+
+void compute_beta(const Sequence& input, const ParamSet& params, MotionMaps& maps) {
     const std::string albedo = params.get_string("albedo"), normal = params.get_string("normal");
     std::string source = params.get_string("beta_source");
     if (source == "auto") source = albedo.empty() && normal.empty() ? "zscore" : "aux";
@@ -83,6 +81,17 @@ MotionMaps compute_motion(const Sequence& input, const ParamSet& params, const P
     }
     maps.beta->frame_numbers() = input.frame_numbers();
     maps.beta_source = source;
+}
+
+MotionMaps compute_motion(const Sequence& input, const ParamSet& params, const ProgressSpan& progress) {
+    const TemporalSetup setup = temporal_setup(params);
+    check_nonfinite(input, setup.nonfinite);
+    PreparedSeries series(input, ChannelSelection::all(input.shape()), setup.prep, setup.budget_bytes, 2);
+    const TemporalBasis basis = compute_temporal_basis(series, {progress.progress, progress.start, progress.span / 3, "motion"});
+    MotionMaps maps;
+    maps.alpha = compute_alpha(series, basis, params,
+                               {progress.progress, progress.start + progress.span / 3, progress.span / 3, "motion"});
+    compute_beta(input, params, maps);
     progress.report(1.0);
     return maps;
 }
