@@ -29,8 +29,9 @@ public:
 
 protected:
     void run(const Sequence& input, Sequence& output, const Progress& progress) override {
-        const MotionMaps maps = compute_motion(input, params(), {progress, 0.0, 0.3, "analyse"});
-        const double moving = 1.0 - mean_of_map(*maps.alpha);
+        // Only alpha decides: beta (z-scores or passes) is left to the hybrid if it is picked.
+        const auto alpha = compute_alpha(input, params(), {progress, 0.0, 0.3, "analyse"});
+        const double moving = 1.0 - mean_of_map(*alpha);
         const bool passes = !params().get_string("albedo").empty() || !params().get_string("normal").empty();
         std::string method, reason;
         char share[32];
@@ -60,7 +61,7 @@ protected:
         for (const auto& name : chosen->results().names())
             if (name != "alpha" && name != "beta" && name != "rank_map")
                 mutable_results().set(method + "." + name, chosen->results().get_string(name));
-        mutable_results().set_image("alpha", maps.alpha);
+        mutable_results().set_image("alpha", alpha);
     }
 };
 

@@ -83,14 +83,18 @@ void compute_beta(const Sequence& input, const ParamSet& params, MotionMaps& map
     maps.beta_source = source;
 }
 
-MotionMaps compute_motion(const Sequence& input, const ParamSet& params, const ProgressSpan& progress) {
+std::shared_ptr<Sequence> compute_alpha(const Sequence& input, const ParamSet& params, const ProgressSpan& progress) {
     const TemporalSetup setup = temporal_setup(params);
     check_nonfinite(input, setup.nonfinite);
     PreparedSeries series(input, ChannelSelection::all(input.shape()), setup.prep, setup.budget_bytes, 2);
-    const TemporalBasis basis = compute_temporal_basis(series, {progress.progress, progress.start, progress.span / 3, "motion"});
+    const TemporalBasis basis = compute_temporal_basis(series, {progress.progress, progress.start, progress.span / 2, "motion"});
+    return compute_alpha(series, basis, params,
+                         {progress.progress, progress.start + progress.span / 2, progress.span / 2, "motion"});
+}
+
+MotionMaps compute_motion(const Sequence& input, const ParamSet& params, const ProgressSpan& progress) {
     MotionMaps maps;
-    maps.alpha = compute_alpha(series, basis, params,
-                               {progress.progress, progress.start + progress.span / 3, progress.span / 3, "motion"});
+    maps.alpha = compute_alpha(input, params, {progress.progress, progress.start, progress.span * 2 / 3, "motion"});
     compute_beta(input, params, maps);
     progress.report(1.0);
     return maps;

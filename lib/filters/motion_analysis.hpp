@@ -19,6 +19,9 @@ struct MotionMaps {
 // Uses the temporal parameters (transform, nonfinite, shared_basis, memory_mb) and motion_params().
 MotionMaps compute_motion(const Sequence& input, const ParamSet& params, const ProgressSpan& progress);
 
+// alpha alone (no beta), e.g. to decide whether anything moves at all.
+std::shared_ptr<Sequence> compute_alpha(const Sequence& input, const ParamSet& params, const ProgressSpan& progress);
+
 // The two stages, for a caller that already has the series and their basis (the hybrid).
 std::shared_ptr<Sequence> compute_alpha(PreparedSeries& series, const TemporalBasis& basis, const ParamSet& params,
                                         const ProgressSpan& progress);
