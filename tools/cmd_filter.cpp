@@ -111,17 +111,26 @@ int cmd_copy(int argc, char** argv) {
 int cmd_denoise(int argc, char** argv) {
     const Args args(argc, argv, 2, kFlags, merged({kInputOptions, kOutputOptions, {"method", "save"}}));
     if (args.flag("help")) {
-        std::printf("usage: statfilter denoise IN OUT [--method NAME] [--PARAM VALUE ...] [options]\n\n"
-                    "Filters a frame sequence (default method %s; %s with --prefilter, e.g.\n"
-                    "--prefilter oidn). Methods and their parameters (from the library):\n",
+        std::printf("usage: statfilter denoise IN OUT [--quality fast|balanced|high | --method NAME] [--PARAM VALUE ...]\n"
+                    "                           [options]\n\n"
+                    "Filters a frame sequence. --quality picks the method for the scene (method auto; see\n"
+                    "docs/benchmarks.md for the speed/accuracy map behind it); without it the method is %s\n"
+                    "(%s with --prefilter, e.g. --prefilter oidn). Methods and their parameters (from the library):\n",
                     kDefaultMethod, kDefaultMethodWithPrefilter);
         for (int i = 0; i < sf_filter_count(); ++i) print_parameters(sf_filter_name(i));
         std::printf("\n%s\n%s  --save NAME=PATH[,...]  write image results, e.g. rank_map=ranks.exr (PNG: false colour)\n"
                     "  --json                  report on stdout\n  --quiet, -q\n", kInputHelp, kOutputHelp);
         return 0;
     }
-    bool prefiltered = false;
-    for (const auto& [name, value] : args.extras()) prefiltered = prefiltered || (name == "prefilter" && !value.empty());
+    bool prefiltered = false, quality = false;
+    for (const auto& [name, value] : args.extras()) {
+        prefiltered = prefiltered || (name == "prefilter" && !value.empty());
+        quality = quality || name == "quality";
+    }
+    // --quality is a parameter of the auto filter, which picks the method itself.
+    if (quality && !args.option("method").empty() && args.option("method") != "auto")
+        throw UsageError("--quality picks the method itself (it is a parameter of --method auto); give one or the other");
+    if (quality) return run_filter(args, "auto");
     return run_filter(args, args.option("method", prefiltered ? kDefaultMethodWithPrefilter : kDefaultMethod));
 }
 

@@ -123,6 +123,23 @@ def test_motion_maps_and_previews(sample_noisy, tmp_path):
     assert 0 <= alpha["channels"][0]["min"] and alpha["channels"][0]["max"] <= 1
 
 
+def test_quality_presets(small_sequence, tmp_path):
+    def picked(*extra):
+        out = run("denoise", small_sequence / "noisy.####.exr", tmp_path / "q.####.exr", *extra, "--json").stdout
+        return json.loads(out)["results"]
+    fast = picked("--quality", "fast")
+    assert fast["method"] == "pca" and fast["quality"] == "fast" and "fast" in fast["reason"]
+    assert picked("--quality", "balanced", "--method", "auto")["method"] in ("pca", "error-threshold")
+    high = picked("--quality", "high")
+    assert high["quality"] == "high" and high["reason"]
+    conflict = run("denoise", small_sequence / "noisy.####.exr", tmp_path / "r.####.exr", "--quality", "fast",
+                   "--method", "pca", check_rc=2)
+    assert "--quality picks the method" in conflict.stderr
+    bad = run("denoise", small_sequence / "noisy.####.exr", tmp_path / "r.####.exr", "--quality", "best", check_rc=1)
+    assert "fast" in bad.stderr and "balanced" in bad.stderr  # the valid choices are named
+    assert not list(tmp_path.glob("r.*.exr"))
+
+
 def test_save_image_results_and_auto(small_sequence, tmp_path):
     report = json.loads(run("denoise", small_sequence / "noisy.####.exr", tmp_path / "d.####.exr",
                             "--method", "auto", "--json").stdout)

@@ -138,21 +138,49 @@ TEST(Auto, PicksByHowMuchMoves) {
     const auto still = scene(false, swinging, &clean, 0.3);
     const FilterRun a = run_filter("auto", *still);
     EXPECT_EQ(a.filter->results().get_string("method"), "pca");
+    EXPECT_EQ(a.filter->results().get_string("quality"), "balanced");
     EXPECT_EQ(max_abs_diff(*a.output, *run_filter("pca", *still).output), 0.0);
     const auto moving = scene(true, steady, &clean, 0.3);
     const FilterRun b = run_filter("auto", *moving);
     EXPECT_EQ(b.filter->results().get_string("method"), "error-threshold");
-    EXPECT_NE(b.filter->results().get_string("reason").find("no albedo/normal passes"), std::string::npos);
-    // With an albedo pass on disk it runs the hybrid with it.
+    EXPECT_EQ(max_abs_diff(*b.output, *run_filter("error-threshold", *moving).output), 0.0);
+}
+
+// The presets: fast is global PCA whatever moves; balanced ignores the passes (the hybrid costs 4-6x
+// for a few percent); high runs OIDN first when it can, else the hybrid with the passes.
+TEST(Auto, QualityPresets) {
+    std::unique_ptr<Sequence> clean;
+    const auto moving = scene(true, steady, &clean, 0.3);
+    const FilterRun fast = run_filter("auto", *moving, {{"quality", "fast"}});
+    EXPECT_EQ(fast.filter->results().get_string("method"), "pca");
+    EXPECT_EQ(max_abs_diff(*fast.output, *run_filter("pca", *moving).output), 0.0);
+
     const auto dir = std::filesystem::temp_directory_path() / ("statfilter-auto-" + std::to_string(::getpid()));
     std::filesystem::create_directories(dir);
     WriteOptions w;
     w.half = false;
     write_sequence(*clean, (dir / "albedo.####.exr").string(), w);
-    const FilterRun c = run_filter("auto", *moving, {{"albedo", (dir / "albedo.####.exr").string()}});
+    const std::string albedo = (dir / "albedo.####.exr").string();
+    const FilterRun balanced = run_filter("auto", *moving, {{"albedo", albedo}});
+    EXPECT_EQ(balanced.filter->results().get_string("method"), "error-threshold");
+
+    bool oidn = false;
+    for (const FilterEntry* e : all_filters()) oidn = oidn || (e->name == "oidn" && e->available());
+    const FilterRun high = run_filter("auto", *moving, {{"albedo", albedo}, {"quality", "high"}});
     std::filesystem::remove_all(dir);
-    EXPECT_EQ(c.filter->results().get_string("method"), "hybrid");
-    EXPECT_EQ(c.filter->results().get_string("hybrid.beta_source"), "aux");
+    if (oidn) {
+        EXPECT_EQ(high.filter->results().get_string("method"), "oidn then error-threshold");
+    } else {
+        EXPECT_EQ(high.filter->results().get_string("method"), "hybrid");
+        EXPECT_EQ(high.filter->results().get_string("hybrid.beta_source"), "aux");
+        EXPECT_NE(high.filter->results().get_string("reason").find("OIDN not used"), std::string::npos);
+    }
+    // A still scene stays global PCA at every quality but high-with-OIDN.
+    const auto still = scene(false, swinging, &clean, 0.3);
+    if (!oidn) {
+        EXPECT_EQ(run_filter("auto", *still, {{"quality", "high"}}).filter->results().get_string("method"), "pca");
+    }
+    EXPECT_THROW(run_filter("auto", *still, {{"quality", "best"}}), Error);
 }
 
 TEST(Hybrid, AnySingleFrameFilterCanBeItsSingleFrameStage) {

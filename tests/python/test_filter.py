@@ -109,3 +109,16 @@ def test_every_filter_runs_on_arrays(name, rng):
     again = np.empty_like(out)
     assert f(noisy, out=again) is again
     np.testing.assert_array_equal(again, out)
+
+
+def test_quality_presets_through_the_auto_filter(rng):
+    """--quality of the CLI is the auto filter's `quality` parameter: the same names, the same picks."""
+    seq = (1 + 0.1 * rng.standard_normal((12, 10, 14, 3))).astype(np.float32)
+    choices = next(p["choices"] for p in statfilter.Filter("auto").params() if p["name"] == "quality")
+    assert choices == ["fast", "balanced", "high"]
+    fast = statfilter.Filter("auto", quality="fast")
+    out = fast(seq)
+    assert fast.results["method"] == "pca" and fast.results["quality"] == "fast"
+    np.testing.assert_array_equal(out, statfilter.Filter("pca")(seq))
+    with pytest.raises(statfilter.InvalidArgumentError, match="balanced"):
+        statfilter.Filter("auto", quality="best")
