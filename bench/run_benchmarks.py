@@ -1,14 +1,18 @@
 #!/usr/bin/env python3
-"""Accuracy and speed of statfilter's filters on real renders, side by side in one run.
+"""Accuracy and speed of statfilter's filters and of its peers on real renders, side by side in one run.
 
 For every scene and noise level under the data folder (scene/spp*/indirect.####.exr with
-scene/ref/indirect.####.exr), each filter runs over a sweep of its parameters:
-  - compute time through the C ABI on frames in memory (the filter alone),
-  - end-to-end CLI time and peak memory (read, filter, write EXR),
-  - relMSE (overall, moving and static regions), PSNR, SSIM, flicker and still-scene jitter.
+scene/ref/indirect.####.exr), on the same frames:
+  - statfilter's filters over a sweep of their parameters, with and without the OIDN prefilter,
+    and the three quality presets: compute time through the C ABI on frames in memory (the filter
+    alone), end-to-end CLI time and peak memory (read, filter, write EXR);
+  - the peers of bench/peers.py (Intel Open Image Denoise through pyoidn, OpenCV's temporal
+    non-local means, a temporal Gaussian average), each in its own process: compute time on frames
+    in memory and the process's peak memory;
+  - relMSE (overall, moving and static regions), PSNR, SSIM, FLIP, flicker and still-scene jitter.
 A straightforward NumPy global PCA runs on the same frames as the yardstick, and a production-size
 sequence (frames resized to 1920x1080) measures throughput against a plain OpenImageIO read+write.
-Writes docs/benchmarks.md and PNG plots. Usage:
+Writes docs/benchmarks.md, docs/benchmarks.json and the PNG maps (one per scene). Usage:
     python3 bench/run_benchmarks.py [--data DIR] [--docs DIR] [--quick]
 """
 
@@ -30,6 +34,8 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 
 import statfilter  # noqa: E402
 from ssim import ssim  # noqa: E402
+from flip_metric import mean_flip  # noqa: E402
+import peers  # noqa: E402
 import report  # noqa: E402
 
 CLI = ROOT / "build" / "tools" / "statfilter"
@@ -63,7 +69,21 @@ def sweeps(quick):
     configs.append(("hybrid aux", "hybrid", {"albedo": "{aux}/albedo.####.exr", "normal": "{aux}/normal.####.exr"}))
     configs.append(("hybrid aux literal", "hybrid", {"albedo": "{aux}/albedo.####.exr", "normal": "{aux}/normal.####.exr",
                                                      "reading": "literal"}))
+    if "oidn" in statfilter.filters():
+        for label, method, params in [("pca auto", "pca", {}), ("error-threshold", "error-threshold", {}),
+                                      ("moving-basis", "moving-basis", {}), ("hybrid", "hybrid", {})]:
+            configs.append((f"OIDN then {label}", method, dict(params, prefilter="oidn")))
+        configs.append(("OIDN fast then error-threshold", "error-threshold",
+                        {"prefilter": "oidn", "prefilter_params": "quality=fast"}))
+    for quality in PRESETS:
+        configs.append((f"preset {quality}", "auto", {"quality": quality}))
+    # Only `high` reads the passes (the hybrid when OIDN is missing).
+    configs.append(("preset high + aux", "auto", {"quality": "high", "albedo": "{aux}/albedo.####.exr",
+                                                 "normal": "{aux}/normal.####.exr"}))
     return configs
+
+
+PRESETS = ["fast", "balanced", "high"]
 
 
 def scenes(data):
@@ -84,6 +104,7 @@ def run_cli(args):
 def measure(noisy, ref, output):
     m = statfilter.compare(output, ref)
     m["ssim"] = ssim(output, ref)
+    m["flip"] = mean_flip(output, ref)
     return m
 
 
@@ -115,10 +136,10 @@ def bench_scene(scene, level, noisy_pattern, ref_pattern, configs, work, repeats
     rows = []
     if baselines:
         base = measure(noisy, ref, noisy)
-        rows.append(dict(scene=scene, level=level, label="input (noisy)", method="input", compute_ms_per_frame=0,
+        rows.append(dict(scene=scene, level=level, label="input (noisy)", method="input", family="baseline", compute_ms_per_frame=0,
                          cli_s=None, rss_mb=None, **base))
         np_out, np_rank, np_time = numpy_reference(noisy, work, repeats)
-        rows.append(dict(scene=scene, level=level, label="numpy pca auto", method="numpy", rank=np_rank,
+        rows.append(dict(scene=scene, level=level, label="numpy pca auto", method="numpy", family="baseline", rank=np_rank,
                          compute_ms_per_frame=1000 * np_time / frames, cli_s=None, rss_mb=None,
                          **measure(noisy, ref, np_out)))
     aux = Path(str(noisy_pattern)).parent.parent / "aux"
@@ -133,10 +154,37 @@ def bench_scene(scene, level, noisy_pattern, ref_pattern, configs, work, repeats
         out_pattern = work / "out.####.exr"
         report_json, rss = run_cli(["denoise", noisy_pattern, out_pattern, "--method", method, "--float",
                                     *[x for k, v in params.items() for x in (f"--{k}", v)]])
-        rows.append(dict(scene=scene, level=level, label=label, method=method,
+        family = "preset" if label.startswith("preset") else "statfilter + OIDN" if "prefilter" in params else "statfilter"
+        rows.append(dict(scene=scene, level=level, label=label, method=method, family=family,
                          params={k: v.replace(str(aux), "{aux}") for k, v in params.items()},
                          compute_ms_per_frame=1000 * seconds / frames, cli_s=report_json["seconds"], rss_mb=rss,
                          results=results, **measure(noisy, ref, out)))
+        print(f"  {scene}/{level} {label:38s} relMSE {rows[-1]['rel_mse']:.4f} "
+              f"{rows[-1]['compute_ms_per_frame']:.2f} ms/frame", file=sys.stderr)
+    if baselines:
+        rows += bench_peers(scene, level, noisy, ref, aux, work, repeats)
+    return rows
+
+
+def bench_peers(scene, level, noisy, ref, aux, work, repeats):
+    """Every usable peer configuration, each in its own process under /usr/bin/time."""
+    usable = peers.available()
+    np.save(work / "peer_in.npy", noisy)
+    rows = []
+    for label, name, params in [("harness (identity)", "identity", {})] + peers.sweep(aux.is_dir()):
+        if usable.get(name):
+            continue
+        cmd = ["/usr/bin/time", "-f", "%M", sys.executable, str(Path(__file__).resolve().parent / "peers.py"), name,
+               json.dumps(params), str(work / "peer_in.npy"), str(work / "peer_out.npy"), "--aux", str(aux),
+               # NLM takes ~100x statfilter's time per frame: one run is precise enough, and saves minutes
+               "--repeats", str(1 if name == "nlm" else repeats)]
+        proc = subprocess.run(cmd, capture_output=True, text=True, check=True)
+        seconds = json.loads(proc.stdout)["seconds"]
+        rss = int(proc.stderr.strip().splitlines()[-1]) / 1024
+        out = np.load(work / "peer_out.npy")
+        rows.append(dict(scene=scene, level=level, label=label, method="peer " + name, family="peer", params=params,
+                         compute_ms_per_frame=1000 * seconds / noisy.shape[0], cli_s=None, rss_mb=rss,
+                         **measure(noisy, ref, out)))
         print(f"  {scene}/{level} {label:38s} relMSE {rows[-1]['rel_mse']:.4f} "
               f"{rows[-1]['compute_ms_per_frame']:.2f} ms/frame", file=sys.stderr)
     return rows
@@ -225,6 +273,9 @@ def production_size(data, work, quick):
     floor = time.perf_counter() - t0
     rows = [dict(label="oiiotool read + write (I/O floor)", seconds=floor, rss_mb=None)]
     for label, method, params in [("copy", "copy", {}), ("pca auto", "pca", {"rank": "auto"}),
+                                  ("preset fast", "auto", {"quality": "fast"}),
+                                  ("preset balanced", "auto", {"quality": "balanced"}),
+                                  ("preset high", "auto", {"quality": "high"}),
                                   ("hybrid", "hybrid", {}),
                                   ("pca auto, memory_mb 64", "pca", {"rank": "auto", "memory_mb": "64"}),
                                   ("error-threshold", "error-threshold", {}),
@@ -238,6 +289,29 @@ def production_size(data, work, quick):
         r["ms_per_mpix_frame"] = 1000 * r["seconds"] / megapixel_frames
         r["ratio_to_floor"] = r["seconds"] / floor
     return dict(frames=frames, width=1920, height=1080, rows=rows)
+
+
+def environment():
+    """The CPU and the peers' versions (or why a peer is missing), for the report's header."""
+    cpu = ""
+    try:
+        cpu = next(line.split(":", 1)[1].strip() for line in open("/proc/cpuinfo") if line.startswith("model name"))
+    except (OSError, StopIteration):
+        pass
+    versions = {}
+    for label, module in [("pyoidn", "pyoidn"), ("opencv-python-headless", "cv2"), ("flip-evaluator", "flip_evaluator")]:
+        try:
+            from importlib import metadata
+            versions[label] = metadata.version(label)
+        except Exception:  # noqa: BLE001 - not installed: say so
+            versions[label] = "not installed (its rows are missing)"
+    return dict(cpu=cpu, peers=versions)
+
+
+def reading_prose():
+    """The hand-written reading of the results (bench/reading.md), kept next to the code that measures."""
+    path = Path(__file__).resolve().parent / "reading.md"
+    return path.read_text() if path.exists() else ""
 
 
 def update_only(args, configs, repeats):
@@ -258,7 +332,8 @@ def update_only(args, configs, repeats):
     command = "python3 bench/run_benchmarks.py, then python3 bench/run_benchmarks.py " + " ".join(
         f"--only '{p}'" for p in args.only)
     report.write(rows, old.get("production"), args.docs, command, os.cpu_count(), motion=old.get("motion"),
-                 figure=ghosting_figure(args.data, args.docs))
+                 figure=ghosting_figure(args.data, args.docs), environment=old.get("environment"),
+                 prose=reading_prose())
 
 
 def main():
@@ -266,6 +341,7 @@ def main():
     parser.add_argument("--data", type=Path, default=ROOT.parent / "shared" / "data")
     parser.add_argument("--docs", type=Path, default=ROOT / "docs")
     parser.add_argument("--quick", action="store_true", help="fewer configurations, one repeat")
+    parser.add_argument("--scene", action="append", help="only these scenes (default: every scene found)")
     parser.add_argument("--only", action="append", metavar="PREFIX",
                         help="re-measure only the configurations whose label starts with PREFIX (with pca auto "
                              "log, the time base, in the same run) and merge them into the existing results")
@@ -281,6 +357,8 @@ def main():
     with tempfile.TemporaryDirectory() as tmp:
         work = Path(tmp)
         for scene, level, noisy, ref in scenes(args.data):
+            if args.scene and scene not in args.scene:
+                continue
             rows += bench_scene(scene, level, noisy, ref, configs, work, repeats)
             motion += motion_detectors(scene, level, noisy, ref)
         production = production_size(args.data, work, args.quick)
@@ -288,9 +366,11 @@ def main():
     figure = ghosting_figure(args.data, args.docs)
     command = "python3 bench/run_benchmarks.py" + (" --quick" if args.quick else "")
     args.docs.mkdir(exist_ok=True)
-    (args.docs / "benchmarks.json").write_text(json.dumps(dict(rows=rows, motion=motion, production=production),
-                                                          indent=1, default=float))
-    report.write(rows, production, args.docs, command, os.cpu_count(), motion=motion, figure=figure)
+    env = environment()
+    (args.docs / "benchmarks.json").write_text(json.dumps(dict(rows=rows, motion=motion, production=production,
+                                                               environment=env), indent=1, default=float))
+    report.write(rows, production, args.docs, command, os.cpu_count(), motion=motion, figure=figure, environment=env,
+                 prose=reading_prose())
 
 
 if __name__ == "__main__":
