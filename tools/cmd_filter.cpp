@@ -113,9 +113,10 @@ int cmd_denoise(int argc, char** argv) {
     if (args.flag("help")) {
         std::printf("usage: statfilter denoise IN OUT [--quality fast|balanced|high | --method NAME] [--PARAM VALUE ...]\n"
                     "                           [options]\n\n"
-                    "Filters a frame sequence. --quality picks the method for the scene (method auto; see\n"
-                    "docs/benchmarks.md for the speed/accuracy map behind it); without it the method is %s\n"
-                    "(%s with --prefilter, e.g. --prefilter oidn). Methods and their parameters (from the library):\n",
+                    "Filters a frame sequence. --quality picks the method for the scene (it is the parameter of\n"
+                    "method auto; docs/benchmarks.md has the speed/accuracy map behind it). Without --method the\n"
+                    "method is %s at quality balanced (%s with --prefilter, e.g. --prefilter oidn).\n"
+                    "Methods and their parameters (from the library):\n",
                     kDefaultMethod, kDefaultMethodWithPrefilter);
         for (int i = 0; i < sf_filter_count(); ++i) print_parameters(sf_filter_name(i));
         std::printf("\n%s\n%s  --save NAME=PATH[,...]  write image results, e.g. rank_map=ranks.exr (PNG: false colour)\n"

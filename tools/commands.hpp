@@ -3,9 +3,10 @@
 
 namespace statfilter_cli {
 
-// The method `denoise` runs when none is given: the lowest error over the benchmark's scenes and
-// levels (docs/benchmarks.md).
-inline constexpr const char* kDefaultMethod = "error-threshold";
+// The method `denoise` runs when none is given: auto at its default quality (balanced), on or near the
+// benchmark's Pareto front on every scene and level (docs/benchmarks.md): global PCA on a still
+// scene, the error threshold method where something moves.
+inline constexpr const char* kDefaultMethod = "auto";
 // With --prefilter (e.g. oidn) and no --method: the temporal pass that never raised the error over
 // the prefilter alone, overall or where things move, on every scene and level (docs/oidn.md).
 inline constexpr const char* kDefaultMethodWithPrefilter = "hybrid";
