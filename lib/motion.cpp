@@ -61,28 +61,44 @@ std::shared_ptr<Sequence> global_motion_map(PreparedSeries& series, const Tempor
         }
     }
     const Shape& shape = series.shape();
-    std::vector<double> energy(static_cast<size_t>(shape.pixels()), 0.0);
+    // energy: what the k components hold beyond the light change; tail: what is left beyond them
+    // (the pixel's own noise, as in the error threshold method).
+    std::vector<double> energy(static_cast<size_t>(shape.pixels()), 0.0), tail(energy.size(), 0.0);
+    const int64_t tail_components = max_useful_rank(basis.series, F) - k;
+    const bool local = o.local_noise && tail_components > 0;
     if (k > 0)
         series.read(second, [&](const PreparedTile& t) {
             a.resize(static_cast<size_t>(k * t.n));
             project_onto_basis(basis, k, t.tile.data(), t.n, a.data());
-            for (int64_t j = 0; j < t.n; ++j)
+            for (int64_t j = 0; j < t.n; ++j) {
+                double total = 0;
+                if (local)
+                    for (int64_t f = 0; f < F; ++f) total += t.tile[f * t.n + j] * t.tile[f * t.n + j];
                 for (int64_t i = 0; i < k; ++i) {
                     const double r = a[i * t.n + j] - offset[i] - slope[i] * t.means[j];
                     energy[t.range.begin + j / channels] += r * r;
+                    total -= a[i * t.n + j] * a[i * t.n + j];
                 }
+                tail[t.range.begin + j / channels] += std::max(total, 0.0);
+            }
         });
     // Pooled over a window, as in the error threshold method: one pixel's component energy at low
     // sample counts is mostly noise, a moving object covers many pixels.
-    cv::Mat pooled(static_cast<int>(shape.height), static_cast<int>(shape.width), CV_64F, energy.data());
-    if (o.window > 1)
-        cv::boxFilter(pooled, pooled, -1, cv::Size(o.window, o.window), cv::Point(-1, -1), true, cv::BORDER_REFLECT);
-    // Pure noise puts about sigma^2 into each of the k components of each channel.
+    const auto pool = [&](std::vector<double>& v) {
+        cv::Mat m(static_cast<int>(shape.height), static_cast<int>(shape.width), CV_64F, v.data());
+        if (o.window > 1) cv::boxFilter(m, m, -1, cv::Size(o.window, o.window), cv::Point(-1, -1), true, cv::BORDER_REFLECT);
+    };
+    pool(energy);
+    if (local) pool(tail);
+    // Pure noise puts about sigma^2 into each of the k components of each channel. Render noise is
+    // far from uniform (pixels half on a wall, half on the empty background, get a few large samples
+    // and zeros): where the pixel's own noise per component is higher, that is the unit.
     const double noise_energy = std::max(noise_sigma * noise_sigma * static_cast<double>(k * channels), 1e-300);
     auto alpha = std::make_shared<Sequence>(Shape{1, shape.height, shape.width, 1});
     alpha->channel_names()[0] = "alpha";
     for (int64_t p = 0; p < shape.pixels(); ++p) {
-        const double r = energy[p] / noise_energy;
+        const double own = local ? tail[p] / static_cast<double>(tail_components) * static_cast<double>(k) : 0.0;
+        const double r = energy[p] / std::max(noise_energy, own);
         const double moving = std::clamp((r - o.low) / (o.high - o.low), 0.0, 1.0);
         alpha->at(0, p / shape.width, p % shape.width, 0) = static_cast<float>(1.0 - moving);
     }

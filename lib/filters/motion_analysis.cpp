@@ -1,5 +1,7 @@
 #include "filters/motion_analysis.hpp"
 
+#include <algorithm>
+
 #include "filters/temporal_params.hpp"
 #include "statfilter/error.hpp"
 #include "statfilter/frame_pattern.hpp"
@@ -10,6 +12,12 @@ namespace statfilter {
 std::vector<ParamSpec> motion_params() {
     return {
         int_param("components", "5", 1, 1000, "leading temporal components whose energy marks global motion (the study: 5)"),
+        choice_param("component_selection", "signal", {"signal", "fixed"},
+                     "signal: of those, only the ones above the noise threshold (Gavish-Donoho rank) count; "
+                     "fixed: all of them (the study)"),
+        choice_param("alpha_noise", "local", {"local", "global"},
+                     "noise unit of the component energy: the larger of the global noise and the pixel's own "
+                     "(its energy beyond the components), or the global noise alone"),
         choice_param("global_light", "ignore", {"ignore", "keep"},
                      "ignore: remove what a global light change puts into the components before measuring motion"),
         float_param("alpha_low", "2", 0, 1e9, "component energy (in noise units) below which a pixel is stationary"),
@@ -43,15 +51,20 @@ std::shared_ptr<Sequence> aux_motion(const Sequence& input, const std::string& p
 
 std::shared_ptr<Sequence> compute_alpha(PreparedSeries& series, const TemporalBasis& basis, const ParamSet& params,
                                         const ProgressSpan& progress) {
-    const double sigma = gavish_donoho_rank(basis.eigenvalues, basis.series, basis.frames).noise_sigma;
+    const RankChoice rank = gavish_donoho_rank(basis.eigenvalues, basis.series, basis.frames);
     GlobalMotionOptions g;
     g.components = static_cast<int>(params.get_int("components"));
+    // Components below the noise threshold are noise, and PCA aligns them with the noisiest pixels
+    // (a few outlier samples): their energy piles up there and looks like motion.
+    if (params.get_string("component_selection") == "signal")
+        g.components = static_cast<int>(std::min<int64_t>(g.components, rank.rank));
+    g.local_noise = params.get_string("alpha_noise") == "local";
     g.ignore_global_light = params.get_string("global_light") == "ignore";
     g.low = params.get_float("alpha_low");
     g.high = params.get_float("alpha_high");
     g.window = static_cast<int>(params.get_int("alpha_window"));
     if (!(g.high > g.low)) throw Error(Status::InvalidArgument, "alpha_high must be above alpha_low");
-    return global_motion_map(series, basis, sigma, g, progress);
+    return global_motion_map(series, basis, rank.noise_sigma, g, progress);
 }
 
 void compute_beta(const Sequence& input, const ParamSet& params, MotionMaps& maps) {

@@ -1,7 +1,8 @@
 // Where temporal filtering can be trusted.
 //  alpha(x), one value per pixel, 1 = stationary: from the energy of the leading temporal
 //    components at each pixel (the study sums |B_1..B_k|, the leading spatial basis vectors),
-//    measured in units of the noise those components would carry anyway. A global light change
+//    measured in units of the noise those components would carry anyway (the larger of the global
+//    noise level and the pixel's own, from its energy beyond those components). A global light change
 //    also lands in the leading components; it is explained across all series by a constant plus a
 //    multiple of the mean image, so that part is removed first (global_light=ignore).
 //  beta(x, t), per pixel and frame, 1 = moving now: robust temporal z-scores of the pixel's
@@ -18,7 +19,8 @@
 namespace statfilter {
 
 struct GlobalMotionOptions {
-    int components = 5;
+    int components = 5;            // the caller passes only components that carry signal (see motion_params)
+    bool local_noise = true;       // noise unit: max(global, this pixel's pooled energy beyond the components)
     bool ignore_global_light = true;
     double low = 2.0, high = 8.0;  // ramp from alpha 1 to 0, in multiples of the noise energy
     int window = 5;                // side of the box the energy is averaged over
