@@ -1,6 +1,6 @@
 #include "statfilter/filter.hpp"
 
-#include "filters/prefilter.hpp"
+#include "filters/frame_stages.hpp"
 #include "statfilter/error.hpp"
 
 namespace statfilter {
@@ -22,14 +22,27 @@ void Filter::execute(const Sequence& input, Sequence& output, const Progress& pr
         throw Error(Status::InvalidArgument, "output shape (" + to_string(output.shape()) +
                                                  ") differs from input shape (" + to_string(input.shape()) + ")");
     results_.clear();
-    // Filters with a prefilter parameter (the temporal ones) run on the prefilter's output.
-    std::unique_ptr<Sequence> prefiltered;
-    if (params_.has("prefilter") && !params_.get_string("prefilter").empty()) {
-        prefiltered = run_prefilter(params_, input, slice(progress, 0, 0.5), results_);
-        run(*prefiltered, output, slice(progress, 0.5, 0.5));
-    } else {
-        run(input, output, progress);
+    // Filters with prefilter/postfilter parameters (the temporal ones) run between those stages.
+    const bool pre = has_frame_stage(params_, "prefilter"), post = has_frame_stage(params_, "postfilter");
+    const double pre_span = pre ? 0.4 : 0.0, post_span = post ? 0.2 : 0.0;
+    std::unique_ptr<Sequence> prefiltered, filtered;
+    const Sequence* source = &input;
+    if (pre) {
+        prefiltered = std::make_unique<Sequence>(input.shape());
+        prefiltered->copy_attributes_from(input);
+        run_frame_stage("prefilter", params_, input, *prefiltered, slice(progress, 0, pre_span), results_);
+        source = prefiltered.get();
     }
+    Sequence* target = &output;
+    if (post) {
+        filtered = std::make_unique<Sequence>(input.shape());
+        target = filtered.get();
+    }
+    if (pre || post)
+        run(*source, *target, slice(progress, pre_span, 1 - pre_span - post_span));
+    else
+        run(*source, *target, progress);
+    if (post) run_frame_stage("postfilter", params_, *filtered, output, slice(progress, 1 - post_span, post_span), results_);
     if (&input != &output) output.copy_attributes_from(input);
 }
 

@@ -3,19 +3,21 @@
 //   fast     - global temporal PCA (automatic rank): the cheapest filter that removes most of the
 //              noise; it ghosts where things move.
 //   balanced - measures how much of the frame moves (alpha) and runs the filter the benchmark found
-//              most accurate for its cost on such a scene:
+//              most accurate for its cost on such a scene, then the diffusion postfilter:
 //                (almost) nothing moves: global PCA, the cheapest and the best on a still camera
 //                with changing light (cornell_light);
 //                something moves: the error threshold method (per-pixel ranks keep what moves; the
-//                hybrid is a few percent better for 4-6x the time, so it waits for `high`).
+//                hybrid is no better once both have the postfilter, at 2-3x the time).
 //   high     - Intel Open Image Denoise on every frame first when its plugin can run here, then the
-//              balanced choice on its output (OIDN has already done what the hybrid's single-frame
-//              stage would); without OIDN, the hybrid wherever something moves, with the albedo/normal
-//              passes when given.
+//              balanced choice on its output without the postfilter (after OIDN it changes nothing);
+//              without OIDN, the hybrid wherever something moves, with the albedo/normal passes when
+//              given.
+// A postfilter the user names on this filter replaces the preset's (Filter::execute runs it).
 // It says what it picked and why (results "method" and "reason").
 #include <cstdio>
 
 #include "filters/builtin_filters.hpp"
+#include "filters/frame_stages.hpp"
 #include "filters/motion_analysis.hpp"
 #include "filters/temporal_params.hpp"
 #include "statfilter/filter_registry.hpp"
@@ -95,12 +97,25 @@ protected:
         if (method == "hybrid")
             for (const auto& spec : motion_params()) chosen->params().set_string(spec.name, params().get_string(spec.name));
         if (!prefilter.empty()) chosen->params().set_string("prefilter", prefilter);
+        // The postfilter: the balanced preset's (the hybrid has its own by default), unless the user
+        // named one here, which Filter::execute runs after this.
+        const bool user_postfilter = !params().get_string("postfilter").empty();
+        if (chosen->params().has("postfilter")) {
+            const bool refine = quality == "balanced" && !user_postfilter;
+            if (method != "hybrid" || user_postfilter) {
+                chosen->params().set_string("postfilter", refine ? kRefinePostfilter : "");
+                chosen->params().set_string("postfilter_params", refine ? kRefinePostfilterParams : "");
+            }
+        }
         const double start = alpha ? 0.3 : 0.0;
         chosen->execute(input, output, Progress([&](double f, const char* stage) {
             progress.report(start + (1 - start) * f, stage);
             return true;
         }));
-        mutable_results().set("method", prefilter.empty() ? method : prefilter + " then " + method);
+        std::string picked = prefilter.empty() ? method : prefilter + " then " + method;
+        if (!chosen->params().get_string("postfilter").empty())
+            picked += " then " + chosen->params().get_string("postfilter");
+        mutable_results().set("method", picked);
         mutable_results().set("reason", reason);
         mutable_results().set("quality", quality);
         for (const auto& name : chosen->results().names())

@@ -11,6 +11,7 @@
 #include <algorithm>
 
 #include "filters/builtin_filters.hpp"
+#include "filters/frame_stages.hpp"
 #include "filters/low_rank_reconstruction.hpp"
 #include "filters/motion_analysis.hpp"
 #include "filters/temporal_params.hpp"
@@ -48,7 +49,13 @@ public:
         };
         for (auto& c : motion_params()) p.push_back(c);
         for (auto& c : diffusion_params()) p.push_back(c);
-        for (auto& c : temporal_common_params()) p.push_back(c);
+        for (auto& c : temporal_common_params()) {
+            // The blend leaves spatially white noise on a smooth signal: a light diffusion pass after it
+            // is part of the hybrid by default (postfilter= turns it off).
+            if (c.name == "postfilter") c.default_value = kRefinePostfilter;
+            if (c.name == "postfilter_params") c.default_value = kRefinePostfilterParams;
+            p.push_back(c);
+        }
         return p;
     }
 

@@ -1,6 +1,6 @@
 #include "filters/temporal_params.hpp"
 
-#include "filters/prefilter.hpp"
+#include "filters/frame_stages.hpp"
 
 namespace statfilter {
 
@@ -14,7 +14,8 @@ std::vector<ParamSpec> temporal_common_params() {
         int_param("shared_basis", "1", 0, 1, "1: all channels share one temporal basis; 0: one basis per channel"),
         float_param("memory_mb", "512", 1, 1e7, "working memory budget for pixel tiles, in MiB (results do not depend on it)"),
     };
-    for (auto& p : prefilter_params()) params.push_back(p);  // run by Filter::execute
+    for (auto& p : prefilter_params()) params.push_back(p);  // both run by Filter::execute
+    for (auto& p : postfilter_params()) params.push_back(p);
     return params;
 }
 

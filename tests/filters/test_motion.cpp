@@ -8,6 +8,7 @@
 #include <random>
 
 #include "filter_runner.hpp"
+#include "filters/frame_stages.hpp"
 #include "synthetic.hpp"
 #include "statfilter/error.hpp"
 #include "statfilter/motion.hpp"
@@ -132,7 +133,7 @@ TEST(Hybrid, BeatsGlobalPcaWhereTheObjectMoves) {
 TEST(Hybrid, NoMotionMeansGlobalPcaAlone) {
     std::unique_ptr<Sequence> clean;
     const auto seq = scene(false, swinging, &clean, 0.3);  // a light swing, nothing moving
-    const FilterRun hybrid = run_filter("hybrid", *seq);
+    const FilterRun hybrid = run_filter("hybrid", *seq, {{"postfilter", ""}});  // the blend alone
     EXPECT_EQ(hybrid.result("moving_basis_fraction"), 0.0);
     EXPECT_EQ(hybrid.result("diffusion_fraction"), 0.0);
     EXPECT_LT(max_abs_diff(*hybrid.output, *run_filter("pca", *seq).output), 1e-6);
@@ -150,24 +151,34 @@ TEST(Hybrid, EverythingMovingAndOneFrame) {
     EXPECT_TRUE(all_finite(*r.output));
     g.frames = 1;
     const auto one = make_low_rank(g);
-    EXPECT_EQ(max_abs_diff(*run_filter("hybrid", *one).output, *one), 0.0);
+    // One frame: nothing temporal to do; the blend returns it, the default postfilter diffuses it.
+    EXPECT_EQ(max_abs_diff(*run_filter("hybrid", *one, {{"postfilter", ""}}).output, *one), 0.0);
+    const auto diffused = run_filter("diffusion", *one, {{"iterations", "3"}, {"k", "3"}});
+    EXPECT_EQ(max_abs_diff(*run_filter("hybrid", *one).output, *diffused.output), 0.0);
 }
 
 TEST(Auto, PicksByHowMuchMoves) {
     std::unique_ptr<Sequence> clean;
+    const std::map<std::string, std::string> refine = {{"postfilter", kRefinePostfilter},
+                                                       {"postfilter_params", kRefinePostfilterParams}};
     const auto still = scene(false, swinging, &clean, 0.3);
     const FilterRun a = run_filter("auto", *still);
-    EXPECT_EQ(a.filter->results().get_string("method"), "pca");
+    EXPECT_EQ(a.filter->results().get_string("method"), "pca then diffusion");
     EXPECT_EQ(a.filter->results().get_string("quality"), "balanced");
-    EXPECT_EQ(max_abs_diff(*a.output, *run_filter("pca", *still).output), 0.0);
+    EXPECT_EQ(max_abs_diff(*a.output, *run_filter("pca", *still, refine).output), 0.0);
     const auto moving = scene(true, steady, &clean, 0.3);
     const FilterRun b = run_filter("auto", *moving);
-    EXPECT_EQ(b.filter->results().get_string("method"), "error-threshold");
-    EXPECT_EQ(max_abs_diff(*b.output, *run_filter("error-threshold", *moving).output), 0.0);
+    EXPECT_EQ(b.filter->results().get_string("method"), "error-threshold then diffusion");
+    EXPECT_EQ(max_abs_diff(*b.output, *run_filter("error-threshold", *moving, refine).output), 0.0);
+    // A postfilter named on auto replaces the preset's.
+    const FilterRun c = run_filter("auto", *moving, {{"postfilter", "copy"}});
+    EXPECT_EQ(c.filter->results().get_string("method"), "error-threshold");
+    EXPECT_EQ(max_abs_diff(*c.output, *run_filter("error-threshold", *moving).output), 0.0);
 }
 
-// The presets: fast is global PCA whatever moves; balanced ignores the passes (the hybrid costs 4-6x
-// for a few percent); high runs OIDN first when it can, else the hybrid with the passes.
+// The presets: fast is global PCA whatever moves; balanced ignores the passes (the hybrid costs 2-3x
+// for nothing once both have the postfilter); high runs OIDN first when it can, else the hybrid with
+// the passes.
 TEST(Auto, QualityPresets) {
     std::unique_ptr<Sequence> clean;
     const auto moving = scene(true, steady, &clean, 0.3);
@@ -182,7 +193,7 @@ TEST(Auto, QualityPresets) {
     write_sequence(*clean, (dir / "albedo.####.exr").string(), w);
     const std::string albedo = (dir / "albedo.####.exr").string();
     const FilterRun balanced = run_filter("auto", *moving, {{"albedo", albedo}});
-    EXPECT_EQ(balanced.filter->results().get_string("method"), "error-threshold");
+    EXPECT_EQ(balanced.filter->results().get_string("method"), "error-threshold then diffusion");
 
     bool oidn = false;
     for (const FilterEntry* e : all_filters()) oidn = oidn || (e->name == "oidn" && e->available());
@@ -191,7 +202,7 @@ TEST(Auto, QualityPresets) {
     if (oidn) {
         EXPECT_EQ(high.filter->results().get_string("method"), "oidn then error-threshold");
     } else {
-        EXPECT_EQ(high.filter->results().get_string("method"), "hybrid");
+        EXPECT_EQ(high.filter->results().get_string("method"), "hybrid then diffusion");
         EXPECT_EQ(high.filter->results().get_string("hybrid.beta_source"), "aux");
         EXPECT_NE(high.filter->results().get_string("reason").find("OIDN not used"), std::string::npos);
     }
@@ -206,10 +217,10 @@ TEST(Auto, QualityPresets) {
 TEST(Hybrid, AnySingleFrameFilterCanBeItsSingleFrameStage) {
     std::unique_ptr<Sequence> clean;
     const auto seq = scene(true, steady, &clean, 0.5);
-    const FilterRun diffused = run_filter("hybrid", *seq);
+    const FilterRun diffused = run_filter("hybrid", *seq, {{"postfilter", ""}});  // the blend alone
     // "copy" is single-frame too: the moving-now pixels then keep their noisy values; far from the
     // moving square the two agree exactly, since only pixels with a single-frame weight change.
-    const FilterRun copied = run_filter("hybrid", *seq, {{"single_frame", "copy"}});
+    const FilterRun copied = run_filter("hybrid", *seq, {{"single_frame", "copy"}, {"postfilter", ""}});
     EXPECT_GT(copied.result("diffusion_fraction"), 0.0);
     EXPECT_GT(max_abs_diff(*copied.output, *diffused.output), 0.0);
     double far = 0;

@@ -1,4 +1,4 @@
-#include "filters/prefilter.hpp"
+#include "filters/frame_stages.hpp"
 
 #include <algorithm>
 
@@ -15,6 +15,19 @@ std::vector<ParamSpec> prefilter_params() {
                                   "the prefilter's parameters as name=value,name=value (e.g. quality=high); "
                                   "its defaults otherwise");
     return {name, list};
+}
+
+std::vector<ParamSpec> postfilter_params(const char* default_filter, const char* default_params) {
+    ParamSpec name = choice_param("postfilter", default_filter, {},
+                                  "single-frame filter run on every frame of the result (e.g. diffusion: removes the "
+                                  "spatially white noise a temporal basis leaves); empty = none");
+    ParamSpec list = choice_param("postfilter_params", default_params, {},
+                                  "the postfilter's parameters as name=value,name=value (e.g. iterations=3)");
+    return {name, list};
+}
+
+bool has_frame_stage(const ParamSet& params, const std::string& stage) {
+    return params.has(stage) && !params.get_string(stage).empty();
 }
 
 void set_param_list(ParamSet& params, const std::string& list, const std::string& what) {
@@ -42,27 +55,24 @@ void set_param_list(ParamSet& params, const std::string& list, const std::string
     }
 }
 
-std::unique_ptr<Sequence> run_prefilter(const ParamSet& params, const Sequence& input, const Progress& progress,
-                                        Results& results) {
-    const std::string& name = params.get_string("prefilter");
-    if (name.empty()) return nullptr;
+void run_frame_stage(const std::string& stage, const ParamSet& params, const Sequence& input, Sequence& output,
+                     const Progress& progress, Results& results) {
+    const std::string& name = params.get_string(stage);
     const FilterEntry& entry = find_filter(name);
     auto filter = entry.create();  // a plugin that cannot be used throws its own error here
     if (entry.kind != FilterKind::SingleFrame)
-        throw Error(Status::InvalidArgument, "prefilter '" + name + "' is a temporal filter; a prefilter works frame by "
-                                             "frame (single-frame filters: see statfilter plugins)");
-    set_param_list(filter->params(), params.get_string("prefilter_params"), "prefilter_params");
-    auto out = std::make_unique<Sequence>(input.shape());
-    filter->execute(input, *out, progress);
+        throw Error(Status::InvalidArgument, stage + " '" + name + "' is a temporal filter; a " + stage +
+                                                 " works frame by frame (single-frame filters: see statfilter plugins)");
+    set_param_list(filter->params(), params.get_string(stage + "_params"), stage + "_params");
+    filter->execute(input, output, progress);
     const Results& own = filter->results();
     for (const auto& result : own.names()) {
         try {
-            results.set("prefilter." + result, own.get_float(result));
+            results.set(stage + "." + result, own.get_float(result));
         } catch (const Error&) {  // a text result
-            results.set("prefilter." + result, own.get_string(result));
+            results.set(stage + "." + result, own.get_string(result));
         }
     }
-    return out;
 }
 
 }  // namespace statfilter

@@ -1,0 +1,43 @@
+// The single-frame stages of the temporal filters. A prefilter (the oidn plugin, diffusion, any
+// single-frame plugin) runs on every frame first and the temporal filter works on its output, which
+// removes the flicker a single-frame denoiser leaves. A postfilter runs on every frame of the
+// temporal filter's output: what a temporal basis leaves is spatially white noise on a smooth
+// signal (indirect light before the albedo), which a few steps of edge-stopping diffusion remove
+// (docs/methods.md, "Postfilter"). Filter::execute runs both for any filter whose parameters
+// include them, so no filter repeats them.
+#pragma once
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "statfilter/params.hpp"
+#include "statfilter/progress.hpp"
+#include "statfilter/sequence.hpp"
+
+namespace statfilter {
+
+// The postfilter the hybrid and the balanced preset use: three steps of diffusion with K = 3x the
+// frame's gradient noise lowered relMSE on every scene and level measured (geometric mean 0.69x
+// after pca and error-threshold, never above 0.95x; docs/methods.md, "Postfilter").
+inline constexpr const char* kRefinePostfilter = "diffusion";
+inline constexpr const char* kRefinePostfilterParams = "iterations=3,k=3";
+
+// prefilter (a filter name, "" = none) and prefilter_params ("name=value,name=value").
+std::vector<ParamSpec> prefilter_params();
+// postfilter and postfilter_params, with the given defaults.
+std::vector<ParamSpec> postfilter_params(const char* default_filter = "", const char* default_params = "");
+
+// Sets each name=value of a comma list with ParamSet::set_string. A piece without '=' continues the
+// previous value, so "channels=R,G,B" keeps its commas. Throws naming `what` and the piece at fault.
+void set_param_list(ParamSet& params, const std::string& list, const std::string& what);
+
+// Runs the single-frame filter that parameter `stage` ("prefilter" or "postfilter") names, with
+// the parameters of `stage`_params, from input into output. Its results are added to results as
+// "STAGE.NAME". Throws when the name is unknown, unusable here, or a temporal filter.
+void run_frame_stage(const std::string& stage, const ParamSet& params, const Sequence& input, Sequence& output,
+                     const Progress& progress, Results& results);
+
+// True when parameter `stage` exists and names a filter.
+bool has_frame_stage(const ParamSet& params, const std::string& stage);
+
+}  // namespace statfilter
