@@ -63,6 +63,12 @@ def sweeps(quick):
     configs.append(("moving-basis h8 reconstruction rauto none", "moving-basis", {"transform": "none"}))
     configs.append(("diffusion", "diffusion", {}))
     configs.append(("diffusion k1 it20", "diffusion", {"k": "1", "iterations": "20"}))
+    # The diffusion postfilter (docs/methods.md): on the study's filters by request, the hybrid's default.
+    post = {"postfilter": "diffusion", "postfilter_params": "iterations=3,k=3"}
+    configs.append(("pca auto + postfilter", "pca", dict(post)))
+    configs.append(("error-threshold + postfilter", "error-threshold", dict(post)))
+    configs.append(("moving-basis + postfilter", "moving-basis", dict(post)))
+    configs.append(("hybrid no postfilter", "hybrid", {"postfilter": ""}))
     configs.append(("hybrid", "hybrid", {}))
     configs.append(("hybrid literal", "hybrid", {"reading": "literal"}))
     configs.append(("hybrid pca", "hybrid", {"temporal": "pca"}))
