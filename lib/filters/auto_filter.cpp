@@ -1,18 +1,21 @@
 // Picks the method for the scene at the quality the user asks for (docs/benchmarks.md, "Presets",
 // has the map these choices come from):
-//   fast     - global temporal PCA (automatic rank): the cheapest filter that removes most of the
-//              noise; it ghosts where things move.
+//   fast     - global temporal PCA (automatic rank) on the raw values: the cheapest filter that
+//              removes most of the noise (the log transform costs more than the PCA at this rank);
+//              it ghosts where things move.
 //   balanced - measures how much of the frame moves (alpha) and runs the filter the benchmark found
 //              most accurate for its cost on such a scene, then the diffusion postfilter:
 //                (almost) nothing moves: global PCA, the cheapest and the best on a still camera
 //                with changing light (cornell_light);
 //                something moves: the error threshold method (per-pixel ranks keep what moves; the
 //                hybrid is no better once both have the postfilter, at 2-3x the time).
-//   high     - Intel Open Image Denoise on every frame first when its plugin can run here, then the
-//              balanced choice on its output without the postfilter (after OIDN it changes nothing);
+//   high     - Intel Open Image Denoise (its `fast` quality: after a temporal pass it is as accurate
+//              as `high` at half the time) on every frame first when its plugin can run here, then
+//              the balanced choice on its output without the postfilter (after OIDN it changes nothing);
 //              without OIDN, the hybrid wherever something moves, with the albedo/normal passes when
 //              given.
-// A postfilter the user names on this filter replaces the preset's (Filter::execute runs it).
+// A postfilter the user names on this filter replaces the preset's (Filter::execute runs it), and
+// `transform` other than `preset` replaces the preset's transform.
 // It says what it picked and why (results "method" and "reason").
 #include <cstdio>
 
@@ -32,6 +35,41 @@ std::string oidn_problem() {
     return "the oidn plugin is not installed";
 }
 
+// What a preset runs, [prefilter then] method [then the diffusion postfilter], and why.
+struct Choice {
+    std::string method, prefilter, reason;
+    bool refine = false;
+};
+
+constexpr const char* kOidnPrefilterParams = "quality=fast";
+
+// quality balanced or high, once alpha has measured the share of moving pixels.
+Choice choose(const std::string& quality, double moving, bool still, bool passes, bool oidn,
+              const std::string& oidn_note) {
+    char share[32];
+    std::snprintf(share, sizeof share, "%.1f%%", 100 * moving);
+    const std::string prefix = "quality " + quality + ": " + share + " of pixels move";
+    Choice c;
+    if (quality == "high" && oidn) {
+        c.prefilter = "oidn";
+        c.method = still ? "pca" : "error-threshold";
+        c.reason = prefix + "; OIDN first, then " +
+                   (still ? "global PCA (a still scene)" : "per-pixel ranks keep the motion");
+    } else if (quality == "high" && !still) {
+        c.method = "hybrid";  // with its own postfilter
+        c.reason = prefix + (passes ? " and albedo/normal passes are given: the hybrid uses them"
+                                    : ": the hybrid (no albedo/normal passes given)");
+    } else {
+        c.method = still ? "pca" : "error-threshold";
+        c.refine = true;
+        c.reason = prefix + (still ? ": a still scene, where global PCA is cheapest and most accurate"
+                                   : ": per-pixel ranks keep the motion") +
+                   "; then a light diffusion pass";
+    }
+    c.reason += oidn_note;
+    return c;
+}
+
 class AutoFilter final : public Filter {
 public:
     AutoFilter() : Filter(make_params()) {}
@@ -45,67 +83,62 @@ public:
                         "below this share of moving pixels (1 - mean alpha) the scene counts as still"),
         };
         for (auto& c : motion_params()) p.push_back(c);
-        for (auto& c : temporal_common_params()) p.push_back(c);
+        for (auto& c : temporal_common_params()) {
+            if (c.name == "transform") {  // the preset picks it unless the user does
+                c.default_value = "preset";
+                c.choices.insert(c.choices.begin(), "preset");
+                c.description = "preset: the quality's (fast: none, else log); or as the temporal filters: " +
+                                c.description;
+            }
+            p.push_back(c);
+        }
         return p;
     }
 
 protected:
     void run(const Sequence& input, Sequence& output, const Progress& progress) override {
         const std::string quality = params().get_string("quality");
-        const bool passes = !params().get_string("albedo").empty() || !params().get_string("normal").empty();
-        std::string method, reason;
-        std::string prefilter;
+        Choice choice;
         std::shared_ptr<Sequence> alpha;
+        // The transform: the preset's unless the user named one.
+        std::string transform = params().get_string("transform");
+        if (transform == "preset") transform = quality == "fast" ? "none" : "log";
+        ParamSet resolved = params();
+        resolved.set_string("transform", transform);
         if (quality == "fast") {
-            method = "pca";
-            reason = "quality fast: global PCA, the cheapest filter; it may ghost where things move";
+            choice.method = "pca";
+            choice.reason = "quality fast: global PCA, the cheapest filter; it may ghost where things move";
         } else {
-            std::string oidn_note;
-            if (quality == "high" && params().get_string("prefilter").empty()) {
-                const std::string problem = oidn_problem();
-                if (problem.empty())
-                    prefilter = "oidn";
-                else
-                    oidn_note = " (OIDN not used: " + problem + ")";
-            }
+            // OIDN only when the user has not named a prefilter of their own (Filter::execute ran it).
+            const bool want_oidn = quality == "high" && params().get_string("prefilter").empty();
+            const std::string problem = want_oidn ? oidn_problem() : "";
+            const std::string oidn_note = problem.empty() ? "" : " (OIDN not used: " + problem + ")";
             // Only alpha decides: beta (z-scores or passes) is left to the hybrid if it is picked.
-            alpha = compute_alpha(input, params(), {progress, 0.0, 0.3, "analyse"});
+            alpha = compute_alpha(input, resolved, {progress, 0.0, 0.3, "analyse"});
             const double moving = 1.0 - mean_of_map(*alpha);
             mutable_results().set("motion_fraction", moving);
-            char share[32];
-            std::snprintf(share, sizeof share, "%.1f%%", 100 * moving);
-            const std::string prefix = "quality " + quality + ": " + share + " of pixels move";
-            if (moving < params().get_float("still_fraction")) {
-                method = "pca";
-                reason = prefix + ", a still scene, where global PCA is cheapest and most accurate";
-            } else if (!prefilter.empty()) {
-                method = "error-threshold";
-                reason = prefix + "; OIDN first, then per-pixel ranks keep the motion";
-            } else if (quality == "high") {
-                method = "hybrid";
-                reason = prefix + (passes ? " and albedo/normal passes are given: the hybrid uses them"
-                                          : ": the hybrid (no albedo/normal passes given)");
-            } else {
-                method = "error-threshold";
-                reason = prefix + ": per-pixel ranks keep the motion (quality high adds OIDN or the hybrid)";
-            }
-            reason += oidn_note;
+            const bool passes = !params().get_string("albedo").empty() || !params().get_string("normal").empty();
+            choice = choose(quality, moving, moving < params().get_float("still_fraction"), passes,
+                            want_oidn && problem.empty(), oidn_note);
         }
+        const std::string& method = choice.method;
+        const std::string& prefilter = choice.prefilter;
         auto chosen = create_filter(method);
         for (const char* name : {"transform", "nonfinite", "shared_basis", "memory_mb"})
-            chosen->params().set_string(name, params().get_string(name));
+            chosen->params().set_string(name, resolved.get_string(name));
         if (method == "hybrid")
             for (const auto& spec : motion_params()) chosen->params().set_string(spec.name, params().get_string(spec.name));
-        if (!prefilter.empty()) chosen->params().set_string("prefilter", prefilter);
-        // The postfilter: the balanced preset's (the hybrid has its own by default), unless the user
-        // named one here, which Filter::execute runs after this.
+        if (!prefilter.empty()) {
+            chosen->params().set_string("prefilter", prefilter);
+            chosen->params().set_string("prefilter_params", kOidnPrefilterParams);
+        }
+        // The postfilter: the preset's (the hybrid keeps its own default), unless the user named one
+        // on this filter, which Filter::execute runs after this one instead.
         const bool user_postfilter = !params().get_string("postfilter").empty();
-        if (chosen->params().has("postfilter")) {
-            const bool refine = quality == "balanced" && !user_postfilter;
-            if (method != "hybrid" || user_postfilter) {
-                chosen->params().set_string("postfilter", refine ? kRefinePostfilter : "");
-                chosen->params().set_string("postfilter_params", refine ? kRefinePostfilterParams : "");
-            }
+        if (method != "hybrid" || user_postfilter) {
+            const bool refine = choice.refine && !user_postfilter;
+            chosen->params().set_string("postfilter", refine ? kRefinePostfilter : "");
+            chosen->params().set_string("postfilter_params", refine ? kRefinePostfilterParams : "");
         }
         const double start = alpha ? 0.3 : 0.0;
         chosen->execute(input, output, Progress([&](double f, const char* stage) {
@@ -116,8 +149,9 @@ protected:
         if (!chosen->params().get_string("postfilter").empty())
             picked += " then " + chosen->params().get_string("postfilter");
         mutable_results().set("method", picked);
-        mutable_results().set("reason", reason);
+        mutable_results().set("reason", choice.reason);
         mutable_results().set("quality", quality);
+        mutable_results().set("transform", transform);
         for (const auto& name : chosen->results().names())
             if (name != "alpha" && name != "beta" && name != "rank_map")
                 mutable_results().set(method + "." + name, chosen->results().get_string(name));

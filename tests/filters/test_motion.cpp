@@ -184,7 +184,11 @@ TEST(Auto, QualityPresets) {
     const auto moving = scene(true, steady, &clean, 0.3);
     const FilterRun fast = run_filter("auto", *moving, {{"quality", "fast"}});
     EXPECT_EQ(fast.filter->results().get_string("method"), "pca");
-    EXPECT_EQ(max_abs_diff(*fast.output, *run_filter("pca", *moving).output), 0.0);
+    EXPECT_EQ(fast.filter->results().get_string("transform"), "none");  // the log costs more than the PCA
+    EXPECT_EQ(max_abs_diff(*fast.output, *run_filter("pca", *moving, {{"transform", "none"}}).output), 0.0);
+    // A transform the user names wins over the preset's.
+    const FilterRun fast_log = run_filter("auto", *moving, {{"quality", "fast"}, {"transform", "log"}});
+    EXPECT_EQ(max_abs_diff(*fast_log.output, *run_filter("pca", *moving).output), 0.0);
 
     const auto dir = std::filesystem::temp_directory_path() / ("statfilter-auto-" + std::to_string(::getpid()));
     std::filesystem::create_directories(dir);
@@ -206,11 +210,11 @@ TEST(Auto, QualityPresets) {
         EXPECT_EQ(high.filter->results().get_string("hybrid.beta_source"), "aux");
         EXPECT_NE(high.filter->results().get_string("reason").find("OIDN not used"), std::string::npos);
     }
-    // A still scene stays global PCA at every quality but high-with-OIDN.
+    // A still scene is global PCA at every quality (after OIDN at high, when it can run).
     const auto still = scene(false, swinging, &clean, 0.3);
-    if (!oidn) {
-        EXPECT_EQ(run_filter("auto", *still, {{"quality", "high"}}).filter->results().get_string("method"), "pca");
-    }
+    EXPECT_EQ(run_filter("auto", *still, {{"quality", "high"}}).filter->results().get_string("method"),
+              oidn ? "oidn then pca" : "pca then diffusion");
+    EXPECT_EQ(run_filter("auto", *still, {{"quality", "balanced"}}).filter->results().get_string("transform"), "log");
     EXPECT_THROW(run_filter("auto", *still, {{"quality", "best"}}), Error);
 }
 
