@@ -253,7 +253,7 @@ def write_report(rows, docs, command, plot_name):
         lines.append("| %s | %s | %.1fx | %.1fx | %.1fx | %.1fx |" % (
             r["scene"], r["level"], p["probe_curve"][i5] / 0.05, p["curve_detector"][i5] / 0.05,
             p["curve_detector"][i1] / 0.01, p["curve_oracle"][i5] / 0.05))
-    lines += ["", "## The default denoiser (error-threshold) with the same detector", "",
+    lines += ["", "## error-threshold (the per-pixel-rank denoiser) with the same detector", "",
               "| scene | level | relMSE | flagged | removes | x random | window area | relMSE after windows |",
               "| --- | --- | --- | --- | --- | --- | --- | --- |"]
     for r in rows:

@@ -32,7 +32,10 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "build" / "python"))
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
-import statfilter  # noqa: E402
+try:
+    import statfilter  # noqa: E402
+except ImportError as e:  # the benchmark measures the build in build/
+    raise SystemExit(f"run_benchmarks: no statfilter package in build/python ({e}); build first: bash scripts/build.sh build")
 from ssim import ssim  # noqa: E402
 from flip_metric import mean_flip  # noqa: E402
 import peers  # noqa: E402
@@ -348,12 +351,22 @@ def main():
     parser.add_argument("--docs", type=Path, default=ROOT / "docs")
     parser.add_argument("--quick", action="store_true", help="fewer configurations, one repeat")
     parser.add_argument("--scene", action="append", help="only these scenes (default: every scene found)")
+    parser.add_argument("--report-only", action="store_true",
+                        help="measure nothing: rewrite docs/benchmarks.md and the maps from docs/benchmarks.json "
+                             "(after editing bench/reading.md or bench/report.py)")
     parser.add_argument("--only", action="append", metavar="PREFIX",
                         help="re-measure only the configurations whose label starts with PREFIX (with pca auto "
                              "log, the time base, in the same run) and merge them into the existing results")
     args = parser.parse_args()
     if not args.data.is_dir():
         args.data = ROOT / "sample"
+    if args.report_only:
+        old = json.loads((args.docs / "benchmarks.json").read_text())
+        figure = "ghosting_cornell_moving.png" if (args.docs / "ghosting_cornell_moving.png").exists() else None
+        report.write(old["rows"], old.get("production"), args.docs, old.get("command", "python3 bench/run_benchmarks.py"),
+                     os.cpu_count(), motion=old.get("motion"), figure=figure, environment=old.get("environment"),
+                     prose=reading_prose())
+        return
     configs = sweeps(args.quick)
     repeats = 1 if args.quick else 3
     if args.only:
@@ -370,11 +383,12 @@ def main():
         production = production_size(args.data, work, args.quick)
     args.docs.mkdir(exist_ok=True)
     figure = ghosting_figure(args.data, args.docs)
-    command = "python3 bench/run_benchmarks.py" + (" --quick" if args.quick else "")
-    args.docs.mkdir(exist_ok=True)
+    command = "python3 bench/run_benchmarks.py" + (" --quick" if args.quick else "") + "".join(
+        f" --scene {s}" for s in args.scene or [])
     env = environment()
     (args.docs / "benchmarks.json").write_text(json.dumps(dict(rows=rows, motion=motion, production=production,
-                                                               environment=env), indent=1, default=float))
+                                                               environment=env, command=command), indent=1,
+                                                          default=float))
     report.write(rows, production, args.docs, command, os.cpu_count(), motion=motion, figure=figure, environment=env,
                  prose=reading_prose())
 
