@@ -97,10 +97,17 @@ def main():
                                 r["rel_mse"] / alone["rel_mse"], r["rel_mse_moving"] / alone["rel_mse_moving"],
                                 r["jitter"] / alone["jitter"], r["flicker"] / alone["flicker"]))
 
-    lines = ["Command: `python3 bench/oidn_benchmark.py --build %s` (%s; %d CPU threads; OIDN from %s)\n" % (
-        os.path.relpath(args.build, ROOT), "data: " + str(args.data.name), os.cpu_count(),
+    try:
+        from importlib import metadata
+        oidn_version = "OIDN from the PyPI package pyoidn " + metadata.version("pyoidn")
+    except Exception:  # noqa: BLE001 - not from pyoidn
+        oidn_version = "OIDN found by the plugin's search"
+    lines = ["Command: `python3 bench/oidn_benchmark.py --build %s` (data: %s; %d CPU threads; %s, %s)\n" % (
+        os.path.relpath(args.build, ROOT),
+        "the project's shared renders" if args.data.name == "data" else args.data.name, os.cpu_count(),
+        oidn_version,
         # Only the file name: a machine's own paths do not belong in the docs.
-        os.path.basename(os.environ.get("STATFILTER_OIDN_LIBRARY", "")) or "the plugin's search"),
+        os.path.basename(os.environ.get("STATFILTER_OIDN_LIBRARY", "")) or "libOpenImageDenoise.so.2"),
         "### OIDN then a temporal filter, as a ratio to OIDN alone (below 1 is better)\n",
         "| scene | level | temporal filter | relMSE | relMSE moving | jitter | flicker |",
         "|---|---|---|---|---|---|---|"]
