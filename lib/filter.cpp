@@ -27,9 +27,8 @@ void Filter::execute(const Sequence& input, Sequence& output, const Progress& pr
     const double pre_span = pre ? 0.4 : 0.0, post_span = post ? 0.2 : 0.0;
     std::unique_ptr<Sequence> prefiltered, filtered;
     const Sequence* source = &input;
-    if (pre) {
+    if (pre) {  // the stage's execute gives it input's attributes
         prefiltered = std::make_unique<Sequence>(input.shape());
-        prefiltered->copy_attributes_from(input);
         run_frame_stage("prefilter", params_, input, *prefiltered, slice(progress, 0, pre_span), results_);
         source = prefiltered.get();
     }
@@ -38,10 +37,7 @@ void Filter::execute(const Sequence& input, Sequence& output, const Progress& pr
         filtered = std::make_unique<Sequence>(input.shape());
         target = filtered.get();
     }
-    if (pre || post)
-        run(*source, *target, slice(progress, pre_span, 1 - pre_span - post_span));
-    else
-        run(*source, *target, progress);
+    run(*source, *target, slice(progress, pre_span, 1 - pre_span - post_span));
     if (post) run_frame_stage("postfilter", params_, *filtered, output, slice(progress, 1 - post_span, post_span), results_);
     if (&input != &output) output.copy_attributes_from(input);
 }

@@ -56,7 +56,8 @@ Choice choose(const std::string& quality, double moving, bool still, bool passes
         c.reason = prefix + "; OIDN first, then " +
                    (still ? "global PCA (a still scene)" : "per-pixel ranks keep the motion");
     } else if (quality == "high" && !still) {
-        c.method = "hybrid";  // with its own postfilter
+        c.method = "hybrid";
+        c.refine = true;  // the hybrid's own default
         c.reason = prefix + (passes ? " and albedo/normal passes are given: the hybrid uses them"
                                     : ": the hybrid (no albedo/normal passes given)");
     } else {
@@ -121,40 +122,34 @@ protected:
             choice = choose(quality, moving, moving < params().get_float("still_fraction"), passes,
                             want_oidn && problem.empty(), oidn_note);
         }
-        const std::string& method = choice.method;
-        const std::string& prefilter = choice.prefilter;
-        auto chosen = create_filter(method);
+        auto chosen = create_filter(choice.method);
         for (const char* name : {"transform", "nonfinite", "shared_basis", "memory_mb"})
             chosen->params().set_string(name, resolved.get_string(name));
-        if (method == "hybrid")
+        if (choice.method == "hybrid")
             for (const auto& spec : motion_params()) chosen->params().set_string(spec.name, params().get_string(spec.name));
-        if (!prefilter.empty()) {
-            chosen->params().set_string("prefilter", prefilter);
+        if (!choice.prefilter.empty()) {
+            chosen->params().set_string("prefilter", choice.prefilter);
             chosen->params().set_string("prefilter_params", kOidnPrefilterParams);
         }
-        // The postfilter: the preset's (the hybrid keeps its own default), unless the user named one
-        // on this filter, which Filter::execute runs after this one instead.
-        const bool user_postfilter = !params().get_string("postfilter").empty();
-        if (method != "hybrid" || user_postfilter) {
-            const bool refine = choice.refine && !user_postfilter;
-            chosen->params().set_string("postfilter", refine ? kRefinePostfilter : "");
-            chosen->params().set_string("postfilter_params", refine ? kRefinePostfilterParams : "");
-        }
+        // The postfilter: the preset's, unless the user named one on this filter, which
+        // Filter::execute runs after this one instead.
+        const bool refine = choice.refine && params().get_string("postfilter").empty();
+        chosen->params().set_string("postfilter", refine ? kRefinePostfilter : "");
+        chosen->params().set_string("postfilter_params", refine ? kRefinePostfilterParams : "");
         const double start = alpha ? 0.3 : 0.0;
         chosen->execute(input, output, Progress([&](double f, const char* stage) {
             progress.report(start + (1 - start) * f, stage);
             return true;
         }));
-        std::string picked = prefilter.empty() ? method : prefilter + " then " + method;
-        if (!chosen->params().get_string("postfilter").empty())
-            picked += " then " + chosen->params().get_string("postfilter");
+        std::string picked = choice.prefilter.empty() ? choice.method : choice.prefilter + " then " + choice.method;
+        if (refine) picked += std::string(" then ") + kRefinePostfilter;
         mutable_results().set("method", picked);
         mutable_results().set("reason", choice.reason);
         mutable_results().set("quality", quality);
         mutable_results().set("transform", transform);
         for (const auto& name : chosen->results().names())
             if (name != "alpha" && name != "beta" && name != "rank_map")
-                mutable_results().set(method + "." + name, chosen->results().get_string(name));
+                mutable_results().set(choice.method + "." + name, chosen->results().get_string(name));
         if (alpha) mutable_results().set_image("alpha", alpha);
     }
 };
