@@ -323,6 +323,18 @@ def reading_prose():
     return path.read_text() if path.exists() else ""
 
 
+def save(docs, results):
+    (docs / "benchmarks.json").write_text(json.dumps(results, indent=1, default=float))
+
+
+def render(docs, results, figure):
+    """docs/benchmarks.md and the maps from the results (rows, motion, production, environment, command)."""
+    report.write(results["rows"], results.get("production"), docs,
+                 results.get("command", "python3 bench/run_benchmarks.py"), os.cpu_count(),
+                 motion=results.get("motion"), figure=figure, environment=results.get("environment"),
+                 prose=reading_prose())
+
+
 def update_only(args, configs, repeats):
     """Re-measures some configurations and merges them into docs/benchmarks.json and the report."""
     old = json.loads((args.docs / "benchmarks.json").read_text())
@@ -337,12 +349,11 @@ def update_only(args, configs, repeats):
         rows.append(r)
     order = {label: i for i, (label, _, _) in enumerate(sweeps(False))}
     rows.sort(key=lambda r: (r["scene"], r["level"], -1 if r["method"] in ("input", "numpy") else order.get(r["label"], 999)))
-    (args.docs / "benchmarks.json").write_text(json.dumps(dict(old, rows=rows), indent=1, default=float))
     command = "python3 bench/run_benchmarks.py, then python3 bench/run_benchmarks.py " + " ".join(
         f"--only '{p}'" for p in args.only)
-    report.write(rows, old.get("production"), args.docs, command, os.cpu_count(), motion=old.get("motion"),
-                 figure=ghosting_figure(args.data, args.docs), environment=old.get("environment"),
-                 prose=reading_prose())
+    results = dict(old, rows=rows, command=command)
+    save(args.docs, results)
+    render(args.docs, results, ghosting_figure(args.data, args.docs))
 
 
 def main():
@@ -361,11 +372,8 @@ def main():
     if not args.data.is_dir():
         args.data = ROOT / "sample"
     if args.report_only:
-        old = json.loads((args.docs / "benchmarks.json").read_text())
         figure = "ghosting_cornell_moving.png" if (args.docs / "ghosting_cornell_moving.png").exists() else None
-        report.write(old["rows"], old.get("production"), args.docs, old.get("command", "python3 bench/run_benchmarks.py"),
-                     os.cpu_count(), motion=old.get("motion"), figure=figure, environment=old.get("environment"),
-                     prose=reading_prose())
+        render(args.docs, json.loads((args.docs / "benchmarks.json").read_text()), figure)
         return
     configs = sweeps(args.quick)
     repeats = 1 if args.quick else 3
@@ -385,12 +393,9 @@ def main():
     figure = ghosting_figure(args.data, args.docs)
     command = "python3 bench/run_benchmarks.py" + (" --quick" if args.quick else "") + "".join(
         f" --scene {s}" for s in args.scene or [])
-    env = environment()
-    (args.docs / "benchmarks.json").write_text(json.dumps(dict(rows=rows, motion=motion, production=production,
-                                                               environment=env, command=command), indent=1,
-                                                          default=float))
-    report.write(rows, production, args.docs, command, os.cpu_count(), motion=motion, figure=figure, environment=env,
-                 prose=reading_prose())
+    results = dict(rows=rows, motion=motion, production=production, environment=environment(), command=command)
+    save(args.docs, results)
+    render(args.docs, results, figure)
 
 
 if __name__ == "__main__":

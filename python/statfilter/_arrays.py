@@ -13,6 +13,7 @@ import ctypes
 import numpy as np
 
 from . import _capi
+from ._handle import OwnsHandle
 from .errors import InvalidArgumentError, check
 
 FLOAT32 = np.dtype("=f4")
@@ -55,7 +56,7 @@ def strides_of(array):
     return _capi.sf_strides(channel=sc, pixel=sw, row=sh, frame=sf)
 
 
-class WrappedSequence:
+class WrappedSequence(OwnsHandle):
     """An sf_sequence borrowing a NumPy array's memory (sf_sequence_wrap). ``array`` is the array
     actually wrapped; keep this object (it references the array) until the handle is released.
     Use as a context manager, or call close()."""
@@ -72,18 +73,6 @@ class WrappedSequence:
         if self.handle:
             _capi.lib.sf_sequence_release(self.handle)
             self.handle = _capi.sf_sequence()
-
-    def __enter__(self):
-        return self
-
-    def __exit__(self, *exc):
-        self.close()
-
-    def __del__(self):
-        try:
-            self.close()
-        except Exception:
-            pass
 
 
 def channel_names(handle, count):

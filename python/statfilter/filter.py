@@ -11,6 +11,7 @@ import numbers
 import numpy as np
 
 from . import _arrays, _capi
+from ._handle import OwnsHandle
 from ._progress import ProgressAdapter
 from .errors import InvalidArgumentError, NotFoundError, check, error_for
 
@@ -63,7 +64,7 @@ def _same_memory(a, b):
     return (a.ctypes.data == b.ctypes.data and a.shape == b.shape and a.strides == b.strides)
 
 
-class Filter:
+class Filter(OwnsHandle):
     """A statfilter filter.
 
     ``Filter(name, **params)`` creates the filter and sets each parameter with the setter that
@@ -98,18 +99,6 @@ class Filter:
         handle, self._handle = getattr(self, "_handle", None), _capi.sf_filter()
         if handle:
             _capi.lib.sf_filter_release(handle)
-
-    def __enter__(self):
-        return self
-
-    def __exit__(self, *exc):
-        self.close()
-
-    def __del__(self):
-        try:
-            self.close()
-        except Exception:
-            pass
 
     def _live(self):
         if not self._handle:

@@ -64,6 +64,18 @@ def _choice(value, table, what):
         raise InvalidArgumentError("%s must be one of %s, got %r" % (what, ", ".join(map(repr, table)), value)) from None
 
 
+def _set_colour_and_progress(options, ocio_config, colorspace_in, colorspace_out, progress):
+    """The fields sf_read_options and sf_write_options share (the structure keeps the encoded
+    strings alive). Returns the progress adapter, to keep until the call returns."""
+    options.ocio_config = _capi.encode(ocio_config)
+    options.colorspace_in = _capi.encode(colorspace_in)
+    options.colorspace_out = _capi.encode(colorspace_out)
+    adapter = ProgressAdapter(progress)
+    if progress is not None:
+        options.progress = adapter.c_function
+    return adapter
+
+
 def read_sequence(pattern, channels=None, frames=None, ocio_config=None, colorspace_in=None,
                   colorspace_out=None, progress=None, return_info=False):
     """Read a frame sequence into a float32 array shaped (frames, height, width, channels).
@@ -91,12 +103,7 @@ def read_sequence(pattern, channels=None, frames=None, ocio_config=None, colorsp
     _capi.lib.sf_read_options_init(ctypes.byref(options))
     options.channels = _channels_text(channels)
     options.frames = _frames_text(frames)
-    options.ocio_config = _capi.encode(ocio_config)
-    options.colorspace_in = _capi.encode(colorspace_in)
-    options.colorspace_out = _capi.encode(colorspace_out)
-    adapter = ProgressAdapter(progress)
-    if progress is not None:
-        options.progress = adapter.c_function
+    adapter = _set_colour_and_progress(options, ocio_config, colorspace_in, colorspace_out, progress)
 
     handle = _capi.sf_sequence()
     status = _capi.lib.sf_sequence_read(_capi.encode_path(pattern), ctypes.byref(options), ctypes.byref(handle))
@@ -161,12 +168,7 @@ def write_sequence(pattern, array, pixel_type="half", compression="zip", frame_n
     options.half_overflow = _choice(half_overflow, _HALF_OVERFLOW, "half_overflow")
     compression_bytes = _capi.encode(compression)  # kept alive by this frame until the call returns
     options.compression = compression_bytes
-    options.ocio_config = _capi.encode(ocio_config)
-    options.colorspace_in = _capi.encode(colorspace_in)
-    options.colorspace_out = _capi.encode(colorspace_out)
-    adapter = ProgressAdapter(progress)
-    if progress is not None:
-        options.progress = adapter.c_function
+    adapter = _set_colour_and_progress(options, ocio_config, colorspace_in, colorspace_out, progress)
 
     pattern_bytes = _capi.encode_path(pattern)
     with _arrays.WrappedSequence(a) as seq:
