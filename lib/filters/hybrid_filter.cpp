@@ -7,7 +7,9 @@
 // sequence of just those pixels, diffusion on each frame's bounding box of them (plus a halo as wide
 // as the diffusion reaches). When alpha says (almost) nothing moves, the basis computed for alpha
 // reconstructs the sequence directly (global PCA, automatic rank): a still scene costs about what
-// `pca` costs.
+// `pca` costs. With the renderer's albedo/normal passes (motion_compensation=auto), the moving pixels
+// get the motion-compensated average instead: each frame's neighbours warped onto it along optical
+// flow on the passes (statfilter/motion_compensation.hpp), I = I_T * alpha + I_MC * (1 - alpha).
 #include <algorithm>
 
 #include "filters/builtin_filters.hpp"
@@ -18,6 +20,7 @@
 #include "statfilter/anisotropic_diffusion.hpp"
 #include "statfilter/error.hpp"
 #include "statfilter/filter_registry.hpp"
+#include "statfilter/motion_compensation.hpp"
 
 namespace statfilter {
 namespace {
@@ -37,15 +40,24 @@ public:
             choice_param("temporal", "error-threshold", {"error-threshold", "pca"},
                          "the global temporal filter used where alpha says still"),
             choice_param("reading", "safe", {"safe", "literal"},
-                         "safe: moving basis where no local motion now, diffusion where there is; "
-                         "literal (the study's slide): moving basis where beta says motion"),
+                         "with motion_compensation=off: safe = moving basis where no local motion now, diffusion "
+                         "where there is; literal (the study's slide) = moving basis where beta says motion"),
             int_param("mb_half_width", "8", 1, 10000, "moving basis: window half-width in frames"),
             float_param("still_fraction", "0.01", 0, 1,
                         "below this share of moving pixels (1 - mean alpha) only global PCA runs: a still scene"),
             ParamSpec{"single_frame", ParamType::String, "diffusion",
-                      "the single-frame stage: diffusion (on the moving pixels' bounding boxes only) or any "
-                      "single-frame filter or plugin, e.g. oidn (on the frames that need it)",
+                      "with motion_compensation=off, the single-frame stage: diffusion (on the moving pixels' "
+                      "bounding boxes only) or any single-frame filter or plugin, e.g. oidn (on the frames that need it)",
                       0, 0, {}, false, ""},
+            choice_param("motion_compensation", "auto", {"auto", "off"},
+                         "auto: average each moving pixel along optical flow (on the albedo/normal passes when "
+                         "given, else on a first pass) instead of the moving basis and diffusion; off: never"),
+            int_param("mc_half_width", "8", 1, 10000, "motion compensation: frames averaged on each side"),
+            float_param("mc_sigma", "0.5", 1e-6, 1e9,
+                        "motion compensation: mismatch of a warped sample with the frame (first pass, relative "
+                        "log units) at which its weight falls to exp(-1/2)"),
+            choice_param("mc_flow", "medium", {"ultrafast", "fast", "medium"},
+                         "motion compensation: OpenCV DIS optical-flow preset, faster to more accurate"),
         };
         for (auto& c : motion_params()) p.push_back(c);
         for (auto& c : diffusion_params()) p.push_back(c);
@@ -80,6 +92,10 @@ protected:
             mutable_results().set("moving_basis_fraction", 0.0);
             mutable_results().set("diffusion_fraction", 0.0);
             mutable_results().set("temporal_rank", static_cast<double>(rank.rank));
+            return;
+        }
+        if (params().get_string("motion_compensation") == "auto") {
+            run_motion_compensated(input, output, *maps.alpha, setup, progress);
             return;
         }
         compute_beta(input, params(), maps);
@@ -132,6 +148,58 @@ protected:
     }
 
 private:
+    // I_T where alpha says still, the motion-compensated average where it says moving.
+    void run_motion_compensated(const Sequence& input, Sequence& output, const Sequence& alpha, const TemporalSetup& setup,
+                                const Progress& progress) {
+        const Shape& s = input.shape();
+        auto temporal = create_filter(params().get_string("temporal"));
+        pass_common(params(), *temporal);
+        temporal->execute(input, output, Progress([&](double f, const char*) {
+            progress.report(0.3 + 0.15 * f, "temporal");
+            return true;
+        }));
+        // The first pass the warped samples are checked against: I_T with the light diffusion pass.
+        auto refine = create_filter(kRefinePostfilter);
+        set_param_list(refine->params(), kRefinePostfilterParams, "first pass");
+        Sequence estimate(s);
+        refine->execute(output, estimate, Progress([&](double f, const char*) {
+            progress.report(0.45 + 0.05 * f, "first pass");
+            return true;
+        }));
+        const std::string albedo = params().get_string("albedo"), normal = params().get_string("normal");
+        const auto albedo_pass = albedo.empty() ? nullptr : read_pass(input, albedo);
+        const auto normal_pass = normal.empty() ? nullptr : read_pass(input, normal);
+        const auto passes = albedo_pass || normal_pass ? make_pass_guide(albedo_pass.get(), normal_pass.get()) : nullptr;
+        std::vector<uint8_t> moving(static_cast<size_t>(s.pixels()));
+        for (int64_t p = 0; p < s.pixels(); ++p) moving[static_cast<size_t>(p)] = alpha.at(0, p / s.width, p % s.width, 0) < 1.0f;
+        AlignedAverageOptions options;
+        options.half_width = static_cast<int>(params().get_int("mc_half_width"));
+        options.sigma = params().get_float("mc_sigma");
+        options.flow = parse_flow_preset(params().get_string("mc_flow"));
+        options.transform = setup.prep.transform;
+        Sequence aligned(s);
+        aligned.copy_samples_from(output);  // a pixel with nothing finite to average keeps I_T
+        const AlignedAverageStats stats = aligned_average(input, estimate, passes.get(), moving, options, aligned,
+                                                          {progress, 0.5, 0.5, "motion compensation"});
+        for (int64_t p = 0; p < s.pixels(); ++p) {
+            if (!moving[static_cast<size_t>(p)]) continue;
+            const int64_t y = p / s.width, x = p % s.width;
+            const float w = 1.0f - alpha.at(0, y, x, 0);
+            for (int64_t f = 0; f < s.frames; ++f)
+                for (int64_t c = 0; c < s.channels; ++c) output.at(f, y, x, c) += w * (aligned.at(f, y, x, c) - output.at(f, y, x, c));
+        }
+        mutable_results().set("beta_source", "none (motion compensation)");
+        mutable_results().set("motion_compensation", passes ? "optical flow on the albedo/normal passes"
+                                                            : "optical flow on the first pass");
+        mutable_results().set("aligned_fraction", stats.pixel_fraction);
+        mutable_results().set("aligned_frames", stats.mean_frames);
+        mutable_results().set("moving_basis_fraction", 0.0);
+        mutable_results().set("diffusion_fraction", 0.0);
+        for (const auto& name : temporal->results().names())
+            if (name == "rank" || name == "mean_rank") mutable_results().set("temporal_" + name, temporal->results().get_string(name));
+        progress.report(1.0, "hybrid");
+    }
+
     // The moving basis over only the listed pixels, as a compact F x 1 x N sequence.
     std::unique_ptr<Sequence> moving_basis_on(const Sequence& input, const std::vector<int64_t>& pixels,
                                               const Progress& progress) {

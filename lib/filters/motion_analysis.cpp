@@ -34,9 +34,7 @@ std::vector<ParamSpec> motion_params() {
     };
 }
 
-namespace {
-
-std::shared_ptr<Sequence> aux_motion(const Sequence& input, const std::string& pattern, double threshold, int dilate) {
+std::unique_ptr<Sequence> read_pass(const Sequence& input, const std::string& pattern) {
     ReadOptions ro;
     ro.frames = format_frame_list(input.frame_numbers());
     auto aux = read_sequence(pattern, ro);
@@ -44,10 +42,8 @@ std::shared_ptr<Sequence> aux_motion(const Sequence& input, const std::string& p
     if (a.frames != input.shape().frames || a.width != input.shape().width || a.height != input.shape().height)
         throw Error(Status::InvalidArgument, "pass '" + pattern + "' is " + to_string(a) + ", the input " +
                                                  to_string(input.shape()));
-    return local_motion_from_aux(*aux, threshold, dilate);
+    return aux;
 }
-
-}  // namespace
 
 std::shared_ptr<Sequence> compute_alpha(PreparedSeries& series, const TemporalBasis& basis, const ParamSet& params,
                                         const ProgressSpan& progress) {
@@ -78,7 +74,7 @@ void compute_beta(const Sequence& input, const ParamSet& params, MotionMaps& map
         const double threshold = params.get_float("aux_threshold");
         for (const std::string& pattern : {albedo, normal}) {
             if (pattern.empty()) continue;
-            auto beta = aux_motion(input, pattern, threshold, dilate);
+            auto beta = local_motion_from_aux(*read_pass(input, pattern), threshold, dilate);
             if (maps.beta) {
                 combine_max(*maps.beta, *beta);
             } else {

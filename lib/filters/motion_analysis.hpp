@@ -1,6 +1,7 @@
 // The motion maps as the motion and hybrid filters compute them from their parameters.
 #pragma once
 #include <memory>
+#include <string>
 #include <vector>
 
 #include "statfilter/filter.hpp"
@@ -26,5 +27,9 @@ std::shared_ptr<Sequence> compute_alpha(const Sequence& input, const ParamSet& p
 std::shared_ptr<Sequence> compute_alpha(PreparedSeries& series, const TemporalBasis& basis, const ParamSet& params,
                                         const ProgressSpan& progress);
 void compute_beta(const Sequence& input, const ParamSet& params, MotionMaps& maps);
+
+// A renderer pass (albedo, normal) for the input's frames, read from a file pattern; its frames and
+// size must match the input's.
+std::unique_ptr<Sequence> read_pass(const Sequence& input, const std::string& pattern);
 
 }  // namespace statfilter

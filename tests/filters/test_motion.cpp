@@ -124,10 +124,15 @@ TEST(Motion, ConstantSequenceHasNoMotionAndNoNaN) {
 TEST(Hybrid, BeatsGlobalPcaWhereTheObjectMoves) {
     std::unique_ptr<Sequence> clean;
     const auto seq = scene(true, steady, &clean, 0.5);  // render-like noise: temporal filtering pays
-    const FilterRun hybrid = run_filter("hybrid", *seq);
     const FilterRun pca = run_filter("pca", *seq);
+    // Motion-compensated (the default) and the study's blend of the moving basis and diffusion.
+    const FilterRun hybrid = run_filter("hybrid", *seq);
     EXPECT_LT(mse(*hybrid.output, *clean), 0.9 * mse(*pca.output, *clean));
-    EXPECT_GT(hybrid.result("moving_basis_fraction") + hybrid.result("diffusion_fraction"), 0.0);
+    EXPECT_EQ(hybrid.filter->results().get_string("motion_compensation"), "optical flow on the first pass");
+    EXPECT_GT(hybrid.result("aligned_fraction"), 0.0);
+    const FilterRun study = run_filter("hybrid", *seq, {{"motion_compensation", "off"}});
+    EXPECT_LT(mse(*study.output, *clean), 0.9 * mse(*pca.output, *clean));
+    EXPECT_GT(study.result("moving_basis_fraction") + study.result("diffusion_fraction"), 0.0);
 }
 
 TEST(Hybrid, NoMotionMeansGlobalPcaAlone) {
@@ -138,7 +143,7 @@ TEST(Hybrid, NoMotionMeansGlobalPcaAlone) {
     EXPECT_EQ(hybrid.result("diffusion_fraction"), 0.0);
     EXPECT_LT(max_abs_diff(*hybrid.output, *run_filter("pca", *seq).output), 1e-6);
     // With the still-scene shortcut off it runs the full hybrid and still models no motion.
-    const FilterRun full = run_filter("hybrid", *seq, {{"still_fraction", "0"}});
+    const FilterRun full = run_filter("hybrid", *seq, {{"still_fraction", "0"}, {"motion_compensation", "off"}});
     EXPECT_EQ(full.filter->results().get_string("beta_source"), "zscore");
 }
 
@@ -207,7 +212,8 @@ TEST(Auto, QualityPresets) {
         EXPECT_EQ(high.filter->results().get_string("method"), "oidn then error-threshold");
     } else {
         EXPECT_EQ(high.filter->results().get_string("method"), "hybrid then diffusion");
-        EXPECT_EQ(high.filter->results().get_string("hybrid.beta_source"), "aux");
+        EXPECT_EQ(high.filter->results().get_string("hybrid.motion_compensation"),
+                  "optical flow on the albedo/normal passes");
         EXPECT_NE(high.filter->results().get_string("reason").find("OIDN not used"), std::string::npos);
     }
     // A still scene is global PCA at every quality (after OIDN at high, when it can run).
@@ -221,10 +227,13 @@ TEST(Auto, QualityPresets) {
 TEST(Hybrid, AnySingleFrameFilterCanBeItsSingleFrameStage) {
     std::unique_ptr<Sequence> clean;
     const auto seq = scene(true, steady, &clean, 0.5);
-    const FilterRun diffused = run_filter("hybrid", *seq, {{"postfilter", ""}});  // the blend alone
+    const std::map<std::string, std::string> blend = {{"postfilter", ""}, {"motion_compensation", "off"}};
+    const FilterRun diffused = run_filter("hybrid", *seq, blend);  // the blend alone
     // "copy" is single-frame too: the moving-now pixels then keep their noisy values; far from the
     // moving square the two agree exactly, since only pixels with a single-frame weight change.
-    const FilterRun copied = run_filter("hybrid", *seq, {{"single_frame", "copy"}, {"postfilter", ""}});
+    auto with_copy = blend;
+    with_copy["single_frame"] = "copy";
+    const FilterRun copied = run_filter("hybrid", *seq, with_copy);
     EXPECT_GT(copied.result("diffusion_fraction"), 0.0);
     EXPECT_GT(max_abs_diff(*copied.output, *diffused.output), 0.0);
     double far = 0;
@@ -234,5 +243,5 @@ TEST(Hybrid, AnySingleFrameFilterCanBeItsSingleFrameStage) {
                 for (int64_t c = 0; c < 3; ++c)
                     far = std::max(far, std::fabs(double(copied.output->at(f, y, x, c)) - diffused.output->at(f, y, x, c)));
     EXPECT_EQ(far, 0.0);
-    EXPECT_THROW(run_filter("hybrid", *seq, {{"single_frame", "pca"}}), Error);
+    EXPECT_THROW(run_filter("hybrid", *seq, {{"single_frame", "pca"}, {"motion_compensation", "off"}}), Error);
 }

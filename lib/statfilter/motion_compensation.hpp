@@ -1,0 +1,52 @@
+// Motion-compensated temporal averaging. When the camera or objects move, a pixel's time series
+// mixes different surface points and a temporal basis has nothing coherent to keep. Dense optical
+// flow (OpenCV's DIS) finds where each surface point of frame t sits in frame s: on the renderer's
+// albedo and normal passes when given (nearly noise-free at any sample count), else on a denoised
+// first pass. Each frame's neighbours within a window are warped onto it along that flow and
+// averaged, each sample weighted by how well the warped first pass matches frame t's (occlusions,
+// flow errors and moving shadows drop out) and zero when it falls outside the frame. Diffuse indirect
+// light does not depend on the view, so along a surface point's track it changes only with the
+// lighting: the average is the model that scene requires.
+#pragma once
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "statfilter/progress.hpp"
+#include "statfilter/sequence.hpp"
+#include "statfilter/value_transform.hpp"
+
+namespace statfilter {
+
+// The renderer's passes as one guide for the flow: the first three channels of each pass given
+// (normals mapped from [-1, 1] to [0, 1]), F x H x W x (3 per pass). Either pass may be null.
+std::unique_ptr<Sequence> make_pass_guide(const Sequence* albedo, const Sequence* normal);
+
+enum class FlowPreset { UltraFast, Fast, Medium };  // OpenCV's DIS presets: speed against accuracy
+FlowPreset parse_flow_preset(const std::string& name);
+
+struct AlignedAverageOptions {
+    int half_width = 8;       // frames on each side of t
+    double sigma = 0.5;       // mismatch of a warped sample's estimate with frame t's (root of the summed squared
+                              // channel differences, in log(1 + x / mean) units) at which its weight is exp(-1/2)
+    ValueTransform transform = ValueTransform::Log;  // the domain the samples are averaged in
+    FlowPreset flow = FlowPreset::Medium;
+};
+
+struct AlignedAverageStats {
+    double mean_frames = 0;     // mean summed weight per averaged pixel-frame (1 = the frame alone)
+    double pixel_fraction = 0;  // share of pixels averaged (the others are left as they were)
+};
+
+// Writes into `output` the motion-compensated average of `input` at every pixel where `pixel_mask`
+// (H x W, may be empty = all) is non-zero; other pixels of `output` are not touched. `estimate` is a
+// denoised first pass of the input (same shape): warped samples are weighted by how well its warped
+// value matches its value at t, which drops occlusions, flow errors and real changes of the light
+// (a moving shadow) from the average. The flow is computed on `passes` (make_pass_guide) when given,
+// else on the estimate itself. Frames, height and width must match the input's.
+AlignedAverageStats aligned_average(const Sequence& input, const Sequence& estimate, const Sequence* passes,
+                                    const std::vector<uint8_t>& pixel_mask, const AlignedAverageOptions& options,
+                                    Sequence& output, const ProgressSpan& progress);
+
+}  // namespace statfilter

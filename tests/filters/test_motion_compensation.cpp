@@ -1,0 +1,227 @@
+// Motion-compensated averaging: known answers on a still scene, a panning camera followed by the
+// flow, a light change the first pass reports, and the extremes (one frame, frames too small for
+// flow, non-finite samples, an empty mask, mismatched shapes). Then the hybrid on a camera pan.
+#include <gtest/gtest.h>
+
+#include <unistd.h>
+
+#include <cmath>
+#include <filesystem>
+#include <limits>
+#include <random>
+
+#include "filter_runner.hpp"
+#include "synthetic.hpp"
+#include "statfilter/error.hpp"
+#include "statfilter/motion_compensation.hpp"
+#include "statfilter/sequence_io.hpp"
+
+using namespace statfilter;
+using namespace statfilter::test;
+
+namespace {
+
+// A world of 4x4 blocks of random levels in [0.2, 1] (the albedo) lit by smooth indirect light (a
+// product of sines, as indirect light is smooth); frame f sees it from column `pan * f` on (the camera
+// pans right, the content moves left by `pan` pixels a frame).
+float world(int64_t u, int64_t v) {
+    const uint32_t h = static_cast<uint32_t>((u / 4) * 73856093u) ^ static_cast<uint32_t>((v / 4) * 19349663u);
+    return 0.2f + 0.8f * static_cast<float>((h * 2654435761u) >> 8) / static_cast<float>(1u << 24);
+}
+
+struct Pan {
+    std::unique_ptr<Sequence> clean, noisy, albedo;
+};
+
+Pan pan_scene(int64_t frames, int64_t height, int64_t width, int64_t pan, double noise) {
+    Pan s;
+    const Shape shape{frames, height, width, 3};
+    s.clean = std::make_unique<Sequence>(shape);
+    s.noisy = std::make_unique<Sequence>(shape);
+    s.albedo = std::make_unique<Sequence>(shape);
+    std::mt19937 rng(5);
+    std::normal_distribution<double> n(0, noise);
+    for (int64_t f = 0; f < frames; ++f)
+        for (int64_t y = 0; y < height; ++y)
+            for (int64_t x = 0; x < width; ++x)
+                for (int64_t c = 0; c < 3; ++c) {
+                    const int64_t u = x + pan * f;
+                    s.albedo->at(f, y, x, c) = world(u, y);
+                    s.clean->at(f, y, x, c) = static_cast<float>(
+                        0.2 + (1 + std::sin(2 * M_PI * u / 24.0)) * (1 + 0.5 * std::cos(2 * M_PI * y / 20.0 + c)));
+                    s.noisy->at(f, y, x, c) = static_cast<float>(s.clean->at(f, y, x, c) * (1 + n(rng)));
+                }
+    return s;
+}
+
+AlignedAverageStats average(const Sequence& input, const Sequence& estimate, const Sequence* passes, Sequence& out,
+                            AlignedAverageOptions o = {}, const std::vector<uint8_t>& mask = {}) {
+    const Progress progress;
+    return aligned_average(input, estimate, passes, mask, o, out, {progress, 0, 1, "test"});
+}
+
+double interior_mse(const Sequence& a, const Sequence& b, int64_t margin) {
+    const Shape& s = a.shape();
+    double e = 0;
+    int64_t n = 0;
+    for (int64_t f = 0; f < s.frames; ++f)
+        for (int64_t y = margin; y < s.height - margin; ++y)
+            for (int64_t x = margin; x < s.width - margin; ++x)
+                for (int64_t c = 0; c < s.channels; ++c, ++n) e += std::pow(double(a.at(f, y, x, c)) - b.at(f, y, x, c), 2);
+    return e / static_cast<double>(n);
+}
+
+}  // namespace
+
+// Nothing moves and every sample agrees with the first pass: the result is each window's plain mean.
+TEST(AlignedAverage, StillSceneGivesTheWindowMean) {
+    const Pan still = pan_scene(7, 40, 48, 0, 0.0);
+    Sequence input(still.clean->shape());
+    for (int64_t f = 0; f < 7; ++f)
+        for (int64_t y = 0; y < 40; ++y)
+            for (int64_t x = 0; x < 48; ++x)
+                for (int64_t c = 0; c < 3; ++c) input.at(f, y, x, c) = static_cast<float>(f + 1);
+    const auto passes = make_pass_guide(still.albedo.get(), nullptr);
+    AlignedAverageOptions o;
+    o.half_width = 2;
+    o.sigma = 1e9;
+    o.transform = ValueTransform::None;
+    Sequence out(input.shape());
+    const AlignedAverageStats stats = average(input, input, passes.get(), out, o);
+    EXPECT_EQ(stats.pixel_fraction, 1.0);
+    for (int64_t f = 0; f < 7; ++f) {
+        double expected = 0;
+        int n = 0;
+        for (int64_t s = std::max<int64_t>(0, f - 2); s <= std::min<int64_t>(6, f + 2); ++s, ++n) expected += s + 1;
+        expected /= n;
+        for (int64_t y = 0; y < 40; y += 7)
+            for (int64_t x = 0; x < 48; x += 5) EXPECT_NEAR(out.at(f, y, x, 1), expected, 1e-4) << f << " " << y << " " << x;
+    }
+}
+
+// A camera pan: the flow on the albedo pass lines the frames up, so averaging along it removes the
+// noise without smearing the moving blocks; a plain temporal mean smears them.
+TEST(AlignedAverage, FollowsACameraPan) {
+    const Pan s = pan_scene(9, 48, 64, 1, 0.3);
+    const auto passes = make_pass_guide(s.albedo.get(), nullptr);
+    AlignedAverageOptions o;
+    o.half_width = 4;
+    Sequence out(s.noisy->shape());
+    const AlignedAverageStats stats = average(*s.noisy, *s.clean, passes.get(), out, o);
+    EXPECT_GT(stats.mean_frames, 6.0);  // most of the 9 frames line up
+    Sequence plain(s.noisy->shape());
+    o.sigma = 1e9;
+    Sequence zero_flow(Shape{9, 48, 64, 3});  // a flat guide: no flow, a plain windowed mean
+    average(*s.noisy, *s.clean, &zero_flow, plain, o);
+    const double noisy = interior_mse(*s.noisy, *s.clean, 8);
+    EXPECT_LT(interior_mse(out, *s.clean, 8), 0.25 * noisy);
+    EXPECT_GT(interior_mse(plain, *s.clean, 8), 2.0 * interior_mse(out, *s.clean, 8));
+}
+
+// Without passes the flow comes from the first pass itself.
+TEST(AlignedAverage, FlowFromTheFirstPassWhenThereAreNoPasses) {
+    const Pan s = pan_scene(9, 48, 64, 1, 0.3);
+    AlignedAverageOptions o;
+    o.half_width = 4;
+    Sequence out(s.noisy->shape());
+    average(*s.noisy, *s.clean, nullptr, out, o);
+    EXPECT_LT(interior_mse(out, *s.clean, 8), 0.25 * interior_mse(*s.noisy, *s.clean, 8));
+}
+
+// The light on the left half doubles from frame 4 on and the first pass says so: samples from the
+// other side of the change get (almost) no weight, so the step stays sharp in time.
+TEST(AlignedAverage, KeepsAChangeOfLightTheFirstPassSees) {
+    const Pan s = pan_scene(8, 40, 48, 0, 0.0);
+    Sequence lit(s.clean->shape());
+    lit.copy_samples_from(*s.clean);
+    for (int64_t f = 4; f < 8; ++f)
+        for (int64_t y = 0; y < 40; ++y)
+            for (int64_t x = 0; x < 24; ++x)
+                for (int64_t c = 0; c < 3; ++c) lit.at(f, y, x, c) *= 2.0f;
+    const auto passes = make_pass_guide(s.albedo.get(), nullptr);
+    AlignedAverageOptions o;
+    o.half_width = 3;
+    o.sigma = 0.1;  // the default (0.5) is looser: a doubling still gets half the weight
+    Sequence out(lit.shape());
+    average(lit, lit, passes.get(), out, o);
+    EXPECT_LT(interior_mse(out, lit, 2), 1e-4);
+    o.sigma = 1e9;  // no check against the first pass: the step smears over the window
+    average(lit, lit, passes.get(), out, o);
+    EXPECT_GT(interior_mse(out, lit, 2), 1e-2);
+}
+
+TEST(AlignedAverage, Extremes) {
+    const Pan s = pan_scene(5, 40, 48, 1, 0.2);
+    const auto passes = make_pass_guide(s.albedo.get(), nullptr);
+    // One frame: nothing to average with.
+    Sequence one(Shape{1, 40, 48, 3}), out_one(one.shape());
+    for (int64_t y = 0; y < 40; ++y)
+        for (int64_t x = 0; x < 48; ++x)
+            for (int64_t c = 0; c < 3; ++c) one.at(0, y, x, c) = s.noisy->at(0, y, x, c);
+    average(one, one, nullptr, out_one);
+    EXPECT_LT(max_abs_diff(out_one, one), 1e-5);
+    // Frames too small for flow: aligned as they are, no failure.
+    const Pan tiny = pan_scene(4, 3, 5, 0, 0.1);
+    Sequence out_tiny(tiny.noisy->shape());
+    EXPECT_NO_THROW(average(*tiny.noisy, *tiny.clean, nullptr, out_tiny));
+    EXPECT_TRUE(all_finite(out_tiny));
+    // A NaN sample is left out; the pixel's other frames still average.
+    Sequence holed(s.noisy->shape());
+    holed.copy_samples_from(*s.noisy);
+    holed.at(2, 20, 20, 0) = std::numeric_limits<float>::quiet_NaN();
+    Sequence out(holed.shape());
+    average(holed, *s.clean, passes.get(), out);
+    EXPECT_TRUE(all_finite(out));
+    // Huge and tiny values: the log-domain average and the relative weights do not overflow.
+    for (const float scale : {1e-30f, 1e30f}) {
+        Sequence scaled(s.noisy->shape()), scaled_clean(s.noisy->shape());
+        for (int64_t f = 0; f < 5; ++f)
+            for (int64_t y = 0; y < 40; ++y)
+                for (int64_t x = 0; x < 48; ++x)
+                    for (int64_t c = 0; c < 3; ++c) {
+                        scaled.at(f, y, x, c) = s.noisy->at(f, y, x, c) * scale;
+                        scaled_clean.at(f, y, x, c) = s.clean->at(f, y, x, c) * scale;
+                    }
+        AlignedAverageOptions o;
+        o.transform = ValueTransform::None;
+        average(scaled, scaled_clean, passes.get(), out, o);
+        EXPECT_TRUE(all_finite(out)) << scale;
+        EXPECT_LT(interior_mse(out, scaled_clean, 8), 0.5 * interior_mse(scaled, scaled_clean, 8)) << scale;
+    }
+    // An all-zero mask touches nothing.
+    Sequence untouched(s.noisy->shape());
+    const AlignedAverageStats none =
+        average(*s.noisy, *s.clean, passes.get(), untouched, {}, std::vector<uint8_t>(40 * 48, 0));
+    EXPECT_EQ(none.pixel_fraction, 0.0);
+    EXPECT_EQ(max_abs_diff(untouched, Sequence(s.noisy->shape())), 0.0);
+    // Shapes that do not match are named, not read past.
+    Sequence small(Shape{5, 20, 48, 3});
+    EXPECT_THROW(average(*s.noisy, small, nullptr, out), Error);
+    EXPECT_THROW(average(*s.noisy, *s.clean, &small, out), Error);
+    EXPECT_THROW(make_pass_guide(nullptr, nullptr), Error);
+    EXPECT_THROW(parse_flow_preset("slow"), Error);
+}
+
+// The hybrid on a camera pan, where every pixel moves: with the albedo pass (or, without it, flow on
+// its first pass) it follows the motion; the study's blend (motion_compensation=off) cannot.
+TEST(Hybrid, MotionCompensationFollowsACameraPan) {
+    const Pan s = pan_scene(16, 48, 64, 1, 0.5);
+    const auto dir = std::filesystem::temp_directory_path() / ("statfilter-pan-" + std::to_string(::getpid()));
+    std::filesystem::create_directories(dir);
+    WriteOptions w;
+    w.half = false;
+    const std::string albedo = (dir / "albedo.####.exr").string();
+    write_sequence(*s.albedo, albedo, w);
+    const FilterRun with_pass = run_filter("hybrid", *s.noisy, {{"albedo", albedo}});
+    std::filesystem::remove_all(dir);
+    const FilterRun without = run_filter("hybrid", *s.noisy);
+    const FilterRun study = run_filter("hybrid", *s.noisy, {{"motion_compensation", "off"}});
+    const FilterRun mb = run_filter("moving-basis", *s.noisy);
+    EXPECT_EQ(with_pass.filter->results().get_string("motion_compensation"), "optical flow on the albedo/normal passes");
+    const double e_pass = interior_mse(*with_pass.output, *s.clean, 8);
+    const double e_self = interior_mse(*without.output, *s.clean, 8);
+    const double e_study = interior_mse(*study.output, *s.clean, 8);
+    EXPECT_LT(e_pass, 0.6 * interior_mse(*mb.output, *s.clean, 8));
+    EXPECT_LT(e_pass, 0.9 * e_study);
+    EXPECT_LT(e_self, 0.9 * e_study);
+}
