@@ -7,8 +7,11 @@
 //              most accurate for its cost on such a scene, then the diffusion postfilter:
 //                (almost) nothing moves: global PCA, the cheapest and the best on a still camera
 //                with changing light (cornell_light);
-//                something moves: the error threshold method (per-pixel ranks keep what moves; the
-//                hybrid is no better once both have the postfilter, at 2-3x the time).
+//                something moves: the hybrid with motion compensation at its fast settings (DIS
+//                ultrafast flow, 4 frames a side; on the albedo/normal passes when given): per-pixel
+//                ranks where still, frames aligned along the flow where things move. On camera
+//                motion it lowered relMSE ~35% against the error threshold method, on local motion
+//                5-10%, at ~2.5x its time (docs/methods.md, "Motion compensation").
 //   high     - Intel Open Image Denoise (its `fast` quality: after a temporal pass it is as accurate
 //              as `high` at half the time) on every frame first when its plugin can run here, then
 //              the balanced choice on its output without the postfilter (after OIDN it changes nothing);
@@ -18,6 +21,8 @@
 // `transform` other than `preset` replaces the preset's transform.
 // It says what it picked and why (results "method" and "reason").
 #include <cstdio>
+#include <utility>
+#include <vector>
 
 #include "filters/builtin_filters.hpp"
 #include "filters/frame_stages.hpp"
@@ -39,6 +44,7 @@ std::string oidn_problem() {
 struct Choice {
     std::string method, prefilter, reason;
     bool refine = false;
+    std::vector<std::pair<std::string, std::string>> params;  // set on the method
 };
 
 constexpr const char* kOidnPrefilterParams = "quality=fast";
@@ -60,12 +66,16 @@ Choice choose(const std::string& quality, double moving, bool still, bool passes
         c.refine = true;  // the hybrid's own default
         c.reason = prefix + (passes ? " and albedo/normal passes are given: the hybrid uses them"
                                     : ": the hybrid (no albedo/normal passes given)");
-    } else {
-        c.method = still ? "pca" : "error-threshold";
+    } else if (still) {
+        c.method = "pca";
         c.refine = true;
-        c.reason = prefix + (still ? ": a still scene, where global PCA is cheapest and most accurate"
-                                   : ": per-pixel ranks keep the motion") +
-                   "; then a light diffusion pass";
+        c.reason = prefix + ": a still scene, where global PCA is cheapest and most accurate; then a light diffusion pass";
+    } else {
+        c.method = "hybrid";
+        c.refine = true;
+        c.params = {{"mc_flow", "ultrafast"}, {"mc_half_width", "4"}};
+        c.reason = prefix + ": the hybrid, per-pixel ranks where still and frames aligned along a fast optical flow " +
+                   (passes ? "on the albedo/normal passes" : "on a first pass") + " where things move; then a light diffusion pass";
     }
     c.reason += oidn_note;
     return c;
@@ -127,6 +137,7 @@ protected:
             chosen->params().set_string(name, resolved.get_string(name));
         if (choice.method == "hybrid")
             for (const auto& spec : motion_params()) chosen->params().set_string(spec.name, params().get_string(spec.name));
+        for (const auto& [name, value] : choice.params) chosen->params().set_string(name, value);
         if (!choice.prefilter.empty()) {
             chosen->params().set_string("prefilter", choice.prefilter);
             chosen->params().set_string("prefilter_params", kOidnPrefilterParams);

@@ -173,17 +173,20 @@ TEST(Auto, PicksByHowMuchMoves) {
     EXPECT_EQ(max_abs_diff(*a.output, *run_filter("pca", *still, refine).output), 0.0);
     const auto moving = scene(true, steady, &clean, 0.3);
     const FilterRun b = run_filter("auto", *moving);
-    EXPECT_EQ(b.filter->results().get_string("method"), "error-threshold then diffusion");
-    EXPECT_EQ(max_abs_diff(*b.output, *run_filter("error-threshold", *moving, refine).output), 0.0);
+    EXPECT_EQ(b.filter->results().get_string("method"), "hybrid then diffusion");
+    const std::map<std::string, std::string> fast_mc = {{"mc_flow", "ultrafast"}, {"mc_half_width", "4"}};
+    EXPECT_EQ(max_abs_diff(*b.output, *run_filter("hybrid", *moving, fast_mc).output), 0.0);
     // A postfilter named on auto replaces the preset's.
     const FilterRun c = run_filter("auto", *moving, {{"postfilter", "copy"}});
-    EXPECT_EQ(c.filter->results().get_string("method"), "error-threshold");
-    EXPECT_EQ(max_abs_diff(*c.output, *run_filter("error-threshold", *moving).output), 0.0);
+    EXPECT_EQ(c.filter->results().get_string("method"), "hybrid");
+    auto no_post = fast_mc;
+    no_post["postfilter"] = "";
+    EXPECT_EQ(max_abs_diff(*c.output, *run_filter("hybrid", *moving, no_post).output), 0.0);
 }
 
-// The presets: fast is global PCA whatever moves; balanced ignores the passes (the hybrid costs 2-3x
-// for nothing once both have the postfilter); high runs OIDN first when it can, else the hybrid with
-// the passes.
+// The presets: fast is global PCA whatever moves; balanced runs the hybrid with fast motion
+// compensation (on the passes when given) where something moves; high runs OIDN first when it can,
+// else the hybrid at its default (more accurate) flow, with the passes.
 TEST(Auto, QualityPresets) {
     std::unique_ptr<Sequence> clean;
     const auto moving = scene(true, steady, &clean, 0.3);
@@ -202,7 +205,9 @@ TEST(Auto, QualityPresets) {
     write_sequence(*clean, (dir / "albedo.####.exr").string(), w);
     const std::string albedo = (dir / "albedo.####.exr").string();
     const FilterRun balanced = run_filter("auto", *moving, {{"albedo", albedo}});
-    EXPECT_EQ(balanced.filter->results().get_string("method"), "error-threshold then diffusion");
+    EXPECT_EQ(balanced.filter->results().get_string("method"), "hybrid then diffusion");
+    EXPECT_EQ(balanced.filter->results().get_string("hybrid.motion_compensation"),
+              "optical flow on the albedo/normal passes");
 
     bool oidn = false;
     for (const FilterEntry* e : all_filters()) oidn = oidn || (e->name == "oidn" && e->available());
