@@ -163,24 +163,26 @@ def write(rows, production, docs, command, cores, motion=None, figure=None, envi
         by = by_label(rs)
         base = by.get(DEFAULTS["pca"])
         for label in [DEFAULTS["pca"], DEFAULTS["error-threshold"], DEFAULTS["moving-basis"], "diffusion", "hybrid",
-                      "hybrid aux", "OIDN high", "OIDN then error-threshold", "preset fast", "preset balanced",
+                      "hybrid aux", "hybrid no mc", "OIDN high", "OIDN then error-threshold", "preset fast", "preset balanced",
                       "preset high"]:
             if label in by and base:
                 r = by[label]
                 lines.append(f"| {scene} | {level} | {label} | {fmt(r['rel_mse_moving'])} | {fmt(r['rel_mse_static'])} | "
                              f"{fmt(r['compute_ms_per_frame'] / base['compute_ms_per_frame'], 2)}x |")
     lines += ["", "## The hybrid against the moving basis", "",
-              "relMSE of the hybrid (its default diffusion postfilter on, and off) over the default moving basis "
-              "on the same frames.", "",
-              "| scene | level | moving-basis | hybrid | / mb | hybrid aux | / mb | hybrid no postfilter | / mb |",
-              "| --- | --- | --- | --- | --- | --- | --- | --- | --- |"]
+              "relMSE of the hybrid (motion-compensated, its default; with the albedo/normal passes; without its "
+              "postfilter; the study's blend without motion compensation, without and with the passes) over the "
+              "default moving basis on the same frames.", "",
+              "| scene | level | moving-basis | hybrid | / mb | hybrid aux | / mb | hybrid no postfilter | / mb "
+              "| hybrid no mc | / mb | hybrid aux no mc | / mb |",
+              "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |"]
     for (scene, level), rs in sorted(grouped.items()):
         by = by_label(rs)
         mb = by.get(DEFAULTS["moving-basis"])
         if not mb:
             continue
         cells = []
-        for label in ("hybrid", "hybrid aux", "hybrid no postfilter"):
+        for label in ("hybrid", "hybrid aux", "hybrid no postfilter", "hybrid no mc", "hybrid aux no mc"):
             r = by.get(label)
             cells += [fmt(r["rel_mse"]) if r else "-", f"{fmt(r['rel_mse'] / mb['rel_mse'], 2)}x" if r else "-"]
         lines.append(f"| {scene} | {level} | {fmt(mb['rel_mse'])} | " + " | ".join(cells) + " |")

@@ -73,22 +73,31 @@ def sweeps(quick):
     configs.append(("moving-basis + postfilter", "moving-basis", dict(post)))
     configs.append(("hybrid no postfilter", "hybrid", {"postfilter": ""}))
     configs.append(("hybrid", "hybrid", {}))
-    configs.append(("hybrid literal", "hybrid", {"reading": "literal"}))
     configs.append(("hybrid pca", "hybrid", {"temporal": "pca"}))
-    configs.append(("hybrid aux", "hybrid", {"albedo": "{aux}/albedo.####.exr", "normal": "{aux}/normal.####.exr"}))
-    configs.append(("hybrid aux literal", "hybrid", {"albedo": "{aux}/albedo.####.exr", "normal": "{aux}/normal.####.exr",
-                                                     "reading": "literal"}))
+    passes = {"albedo": "{aux}/albedo.####.exr", "normal": "{aux}/normal.####.exr"}
+    configs.append(("hybrid aux", "hybrid", dict(passes)))
+    # Motion compensation (the hybrid's default) against the study's blend, and its speed/accuracy settings.
+    configs.append(("hybrid no mc", "hybrid", {"motion_compensation": "off"}))
+    configs.append(("hybrid no mc literal", "hybrid", {"motion_compensation": "off", "reading": "literal"}))
+    configs.append(("hybrid aux no mc", "hybrid", dict(passes, motion_compensation="off")))
+    configs.append(("hybrid aux no mc literal", "hybrid", dict(passes, motion_compensation="off", reading="literal")))
+    for flow in ["ultrafast", "fast"]:
+        configs.append((f"hybrid mc {flow}", "hybrid", {"mc_flow": flow}))
+    configs.append(("hybrid mc ultrafast h4", "hybrid", {"mc_flow": "ultrafast", "mc_half_width": "4"}))
+    configs.append(("hybrid mc h4", "hybrid", {"mc_half_width": "4"}))
+    configs.append(("hybrid aux mc ultrafast h4", "hybrid", dict(passes, mc_flow="ultrafast", mc_half_width="4")))
     if "oidn" in statfilter.filters():
         for label, method, params in [("pca auto", "pca", {}), ("error-threshold", "error-threshold", {}),
                                       ("moving-basis", "moving-basis", {}), ("hybrid", "hybrid", {})]:
             configs.append((f"OIDN then {label}", method, dict(params, prefilter="oidn")))
         configs.append(("OIDN fast then error-threshold", "error-threshold",
                         {"prefilter": "oidn", "prefilter_params": "quality=fast"}))
+        configs.append(("OIDN fast then hybrid", "hybrid", {"prefilter": "oidn", "prefilter_params": "quality=fast"}))
     for quality in PRESETS:
         configs.append((f"preset {quality}", "auto", {"quality": quality}))
-    # Only `high` reads the passes (the hybrid when OIDN is missing).
-    configs.append(("preset high + aux", "auto", {"quality": "high", "albedo": "{aux}/albedo.####.exr",
-                                                 "normal": "{aux}/normal.####.exr"}))
+    # The passes feed the hybrid's flow (balanced where something moves; high when OIDN is missing).
+    configs.append(("preset balanced + aux", "auto", dict(passes, quality="balanced")))
+    configs.append(("preset high + aux", "auto", dict(passes, quality="high")))
     return configs
 
 
@@ -230,7 +239,8 @@ def motion_detectors(scene, level, noisy_pattern, ref_pattern):
 
 
 def ghosting_figure(data, docs):
-    """Side by side: one frame of the moving ball, noisy, global PCA, moving basis, hybrid, reference."""
+    """Side by side: one frame of the moving ball, noisy, global PCA, moving basis, error threshold, the
+    hybrid without and with the albedo/normal passes, reference."""
     try:
         import matplotlib
         matplotlib.use("Agg")
@@ -246,6 +256,7 @@ def ghosting_figure(data, docs):
     panels = [("noisy 4 spp", noisy), ("pca auto", statfilter.Filter("pca")(noisy)),
               ("moving-basis", statfilter.Filter("moving-basis")(noisy)),
               ("error-threshold", statfilter.Filter("error-threshold")(noisy)),
+              ("hybrid", statfilter.Filter("hybrid")(noisy)),
               ("hybrid (albedo+normal)", statfilter.Filter("hybrid", albedo=str(aux / "albedo.####.exr"),
                                                           normal=str(aux / "normal.####.exr"))(noisy)),
               ("reference", ref)]
@@ -286,6 +297,7 @@ def production_size(data, work, quick):
                                   ("preset balanced", "auto", {"quality": "balanced"}),
                                   ("preset high", "auto", {"quality": "high"}),
                                   ("hybrid", "hybrid", {}),
+                                  ("hybrid no mc", "hybrid", {"motion_compensation": "off"}),
                                   ("pca auto, memory_mb 64", "pca", {"rank": "auto", "memory_mb": "64"}),
                                   ("error-threshold", "error-threshold", {}),
                                   ("moving-basis", "moving-basis", {})]:

@@ -130,7 +130,7 @@ def test_quality_presets(small_sequence, tmp_path):
     fast = picked("--quality", "fast")
     assert fast["method"] == "pca" and fast["quality"] == "fast" and "fast" in fast["reason"]
     assert picked("--quality", "balanced", "--method", "auto")["method"] in ("pca then diffusion",
-                                                                         "error-threshold then diffusion")
+                                                                         "hybrid then diffusion")
     high = picked("--quality", "high")
     assert high["quality"] == "high" and high["reason"]
     conflict = run("denoise", small_sequence / "noisy.####.exr", tmp_path / "r.####.exr", "--quality", "fast",
