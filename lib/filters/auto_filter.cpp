@@ -8,8 +8,9 @@
 //                (almost) nothing moves: global PCA, the cheapest and the best on a still camera
 //                with changing light (cornell_light);
 //                something moves: the hybrid with motion compensation at its fast settings (DIS
-//                ultrafast flow, 4 frames a side; on the albedo/normal passes when given): per-pixel
-//                ranks where still, frames aligned along the flow where things move. On camera
+//                ultrafast flow, 4 frames a side, on its first pass: at these settings the albedo/
+//                normal passes were no better and reading them cost more): per-pixel ranks where
+//                still, frames aligned along the flow where things move. On camera
 //                motion it lowered relMSE ~35% against the error threshold method, on local motion
 //                5-10%, at ~2.5x its time (docs/methods.md, "Motion compensation").
 //   high     - Intel Open Image Denoise (its `fast` quality: after a temporal pass it is as accurate
@@ -44,6 +45,7 @@ std::string oidn_problem() {
 struct Choice {
     std::string method, prefilter, reason;
     bool refine = false;
+    bool passes = false;  // hand the albedo/normal passes to the method
     std::vector<std::pair<std::string, std::string>> params;  // set on the method
 };
 
@@ -64,6 +66,7 @@ Choice choose(const std::string& quality, double moving, bool still, bool passes
     } else if (quality == "high" && !still) {
         c.method = "hybrid";
         c.refine = true;  // the hybrid's own default
+        c.passes = passes;
         c.reason = prefix + (passes ? " and albedo/normal passes are given: the hybrid uses them"
                                     : ": the hybrid (no albedo/normal passes given)");
     } else if (still) {
@@ -74,8 +77,8 @@ Choice choose(const std::string& quality, double moving, bool still, bool passes
         c.method = "hybrid";
         c.refine = true;
         c.params = {{"mc_flow", "ultrafast"}, {"mc_half_width", "4"}};
-        c.reason = prefix + ": the hybrid, per-pixel ranks where still and frames aligned along a fast optical flow " +
-                   (passes ? "on the albedo/normal passes" : "on a first pass") + " where things move; then a light diffusion pass";
+        c.reason = prefix + ": the hybrid, per-pixel ranks where still and frames aligned along a fast optical flow "
+                            "where things move; then a light diffusion pass";
     }
     c.reason += oidn_note;
     return c;
@@ -137,6 +140,10 @@ protected:
             chosen->params().set_string(name, resolved.get_string(name));
         if (choice.method == "hybrid")
             for (const auto& spec : motion_params()) chosen->params().set_string(spec.name, params().get_string(spec.name));
+        if (choice.method == "hybrid" && !choice.passes) {
+            chosen->params().set_string("albedo", "");
+            chosen->params().set_string("normal", "");
+        }
         for (const auto& [name, value] : choice.params) chosen->params().set_string(name, value);
         if (!choice.prefilter.empty()) {
             chosen->params().set_string("prefilter", choice.prefilter);
