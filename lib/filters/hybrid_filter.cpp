@@ -159,10 +159,12 @@ private:
             return true;
         }));
         // The first pass the warped samples are checked against: I_T with the light diffusion pass.
+        // The aligned averages then overwrite it in place (it is read in full first): one frame-sized
+        // copy of the sequence less at production sizes.
         auto refine = create_filter(kRefinePostfilter);
         set_param_list(refine->params(), kRefinePostfilterParams, "first pass");
-        Sequence estimate(s);
-        refine->execute(output, estimate, Progress([&](double f, const char*) {
+        Sequence aligned(s);
+        refine->execute(output, aligned, Progress([&](double f, const char*) {
             progress.report(0.45 + 0.05 * f, "first pass");
             return true;
         }));
@@ -177,9 +179,8 @@ private:
         options.sigma = params().get_float("mc_sigma");
         options.flow = parse_flow_preset(params().get_string("mc_flow"));
         options.transform = setup.prep.transform;
-        Sequence aligned(s);
-        aligned.copy_samples_from(output);  // a pixel with nothing finite to average keeps I_T
-        const AlignedAverageStats stats = aligned_average(input, estimate, passes.get(), moving, options, aligned,
+        // A pixel with nothing finite to average keeps the first pass.
+        const AlignedAverageStats stats = aligned_average(input, aligned, passes.get(), moving, options, aligned,
                                                           {progress, 0.5, 0.5, "motion compensation"});
         for (int64_t p = 0; p < s.pixels(); ++p) {
             if (!moving[static_cast<size_t>(p)]) continue;

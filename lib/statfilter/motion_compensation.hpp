@@ -44,7 +44,8 @@ struct AlignedAverageStats {
 // denoised first pass of the input (same shape): warped samples are weighted by how well its warped
 // value matches its value at t, which drops occlusions, flow errors and real changes of the light
 // (a moving shadow) from the average. The flow is computed on `passes` (make_pass_guide) when given,
-// else on the estimate itself. Frames, height and width must match the input's.
+// else on the estimate itself. Frames, height and width must match the input's. `output` may be the
+// estimate itself: the estimate is read in full before anything is written.
 AlignedAverageStats aligned_average(const Sequence& input, const Sequence& estimate, const Sequence* passes,
                                     const std::vector<uint8_t>& pixel_mask, const AlignedAverageOptions& options,
                                     Sequence& output, const ProgressSpan& progress);
