@@ -9,8 +9,11 @@
 // reconstructs the sequence directly (global PCA, automatic rank): a still scene costs about what
 // `pca` costs. With the renderer's albedo/normal passes (motion_compensation=auto), the moving pixels
 // get the motion-compensated average instead: each frame's neighbours warped onto it along optical
-// flow on the passes (statfilter/motion_compensation.hpp), I = I_T * alpha + I_MC * (1 - alpha).
+// flow on the passes (statfilter/motion_compensation.hpp), I = I_T * (1 - m) + I_MC * m, m = 1 - alpha
+// grown by a max filter (mc_dilate).
 #include <algorithm>
+
+#include <opencv2/imgproc.hpp>
 
 #include "filters/builtin_filters.hpp"
 #include "filters/frame_stages.hpp"
@@ -56,6 +59,9 @@ public:
             float_param("mc_sigma", "0.5", 1e-6, 1e9,
                         "motion compensation: mismatch of a warped sample with the frame (first pass, relative "
                         "log units) at which its weight falls to exp(-1/2)"),
+            int_param("mc_dilate", "4", 0, 1000,
+                      "motion compensation: the moving weight 1 - alpha is grown by a max filter of this radius "
+                      "(pixels), so the rim of a moving region is aligned too"),
             choice_param("mc_flow", "medium", {"ultrafast", "fast", "medium"},
                          "motion compensation: OpenCV DIS optical-flow preset, faster to more accurate"),
         };
@@ -172,8 +178,17 @@ private:
         const auto albedo_pass = albedo.empty() ? nullptr : read_pass(input, albedo);
         const auto normal_pass = normal.empty() ? nullptr : read_pass(input, normal);
         const auto passes = albedo_pass || normal_pass ? make_pass_guide(albedo_pass.get(), normal_pass.get()) : nullptr;
+        // The moving weight 1 - alpha, grown by a max filter: alpha is pooled over a box and ramps, so
+        // along the rim of a moving region the temporal filter would keep part of the weight, and
+        // there its per-pixel ranks keep the motion's noise (dark and bright speckles at 4 spp).
+        cv::Mat weight(static_cast<int>(s.height), static_cast<int>(s.width), CV_32F);
+        for (int64_t p = 0; p < s.pixels(); ++p)
+            weight.at<float>(static_cast<int>(p / s.width), static_cast<int>(p % s.width)) = 1.0f - alpha.at(0, p / s.width, p % s.width, 0);
+        const int grow = static_cast<int>(params().get_int("mc_dilate"));
+        if (grow > 0) cv::dilate(weight, weight, cv::Mat::ones(2 * grow + 1, 2 * grow + 1, CV_8U));
         std::vector<uint8_t> moving(static_cast<size_t>(s.pixels()));
-        for (int64_t p = 0; p < s.pixels(); ++p) moving[static_cast<size_t>(p)] = alpha.at(0, p / s.width, p % s.width, 0) < 1.0f;
+        for (int64_t p = 0; p < s.pixels(); ++p)
+            moving[static_cast<size_t>(p)] = weight.at<float>(static_cast<int>(p / s.width), static_cast<int>(p % s.width)) > 0.0f;
         AlignedAverageOptions options;
         options.half_width = static_cast<int>(params().get_int("mc_half_width"));
         options.sigma = params().get_float("mc_sigma");
@@ -185,7 +200,7 @@ private:
         for (int64_t p = 0; p < s.pixels(); ++p) {
             if (!moving[static_cast<size_t>(p)]) continue;
             const int64_t y = p / s.width, x = p % s.width;
-            const float w = 1.0f - alpha.at(0, y, x, 0);
+            const float w = weight.at<float>(static_cast<int>(y), static_cast<int>(x));
             for (int64_t f = 0; f < s.frames; ++f)
                 for (int64_t c = 0; c < s.channels; ++c) output.at(f, y, x, c) += w * (aligned.at(f, y, x, c) - output.at(f, y, x, c));
         }
