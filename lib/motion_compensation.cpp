@@ -105,6 +105,10 @@ AlignedAverageStats aligned_average(const Sequence& input, const Sequence& estim
         if (g.frames != s.frames || g.height != s.height || g.width != s.width)
             throw Error(Status::InvalidArgument, "the guide passes are " + to_string(g) + ", the input " + to_string(s));
     }
+    if (!options.frame_gain.empty() && static_cast<int64_t>(options.frame_gain.size()) != s.frames)
+        throw Error(Status::InvalidArgument, "aligned_average: one light level per frame expected");
+    for (double g : options.frame_gain)
+        if (!(g > 0 && std::isfinite(g))) throw Error(Status::InvalidArgument, "aligned_average: light levels must be positive");
     if (!pixel_mask.empty() && static_cast<int64_t>(pixel_mask.size()) != s.pixels())
         throw Error(Status::InvalidArgument, "aligned_average: the pixel mask does not match the frame");
     const int64_t F = s.frames, P = s.pixels(), C = s.channels;
@@ -130,13 +134,14 @@ AlignedAverageStats aligned_average(const Sequence& input, const Sequence& estim
         std::vector<double> row(static_cast<size_t>(P * C));
         std::vector<float> frame(row.size());
         for (int f = frames.start; f < frames.end; ++f) {
+            const double gain = options.frame_gain.empty() ? 1.0 : options.frame_gain[static_cast<size_t>(f)];
             input.get_frame(f, frame.data());
-            std::copy(frame.begin(), frame.end(), row.begin());
+            for (size_t i = 0; i < frame.size(); ++i) row[i] = frame[i] / gain;
             forward_transform(options.transform, row.data(), row.size());
             std::copy(row.begin(), row.end(), values.begin() + f * P * C);
             estimate.get_frame(f, frame.data());
             for (size_t i = 0; i < frame.size(); ++i)
-                guide[static_cast<size_t>(f * P * C) + i] = static_cast<float>(std::log1p(std::max(0.0, frame[i] / mean)));
+                guide[static_cast<size_t>(f * P * C) + i] = static_cast<float>(std::log1p(std::max(0.0, frame[i] / gain / mean)));
         }
     });
     // The flow's 8-bit images: the passes, or the first pass scaled so its 99.5th percentile is white.
@@ -179,6 +184,7 @@ AlignedAverageStats aligned_average(const Sequence& input, const Sequence& estim
                 std::vector<double> sum(pixels.size() * static_cast<size_t>(C)), weight(pixels.size());
                 std::vector<double> sample(static_cast<size_t>(C));
                 for (int t = frames.start; t < frames.end; ++t) {
+                    const double gain_t = options.frame_gain.empty() ? 1.0 : options.frame_gain[static_cast<size_t>(t)];
                     std::fill(sum.begin(), sum.end(), 0.0);
                     std::fill(weight.begin(), weight.end(), 0.0);
                     const float* gt = guide.data() + t * P * C;
@@ -217,7 +223,7 @@ AlignedAverageStats aligned_average(const Sequence& input, const Sequence& estim
                             sample[static_cast<size_t>(c)] = sum[i * static_cast<size_t>(C) + static_cast<size_t>(c)] / weight[i];
                         inverse_transform(options.transform, sample.data(), sample.size());
                         for (int64_t c = 0; c < C; ++c)
-                            output.at(t, pixels[i] / s.width, pixels[i] % s.width, c) = static_cast<float>(sample[static_cast<size_t>(c)]);
+                            output.at(t, pixels[i] / s.width, pixels[i] % s.width, c) = static_cast<float>(sample[static_cast<size_t>(c)] * gain_t);
                     }
                     frame_weight[static_cast<size_t>(t)] = total;
                 }

@@ -194,6 +194,7 @@ private:
         options.sigma = params().get_float("mc_sigma");
         options.flow = parse_flow_preset(params().get_string("mc_flow"));
         options.transform = setup.prep.transform;
+        options.frame_gain = still_light_levels(aligned, moving);
         // A pixel with nothing finite to average keeps the first pass.
         const AlignedAverageStats stats = aligned_average(input, aligned, passes.get(), moving, options, aligned,
                                                           {progress, 0.5, 0.5, "motion compensation"});
@@ -214,6 +215,31 @@ private:
         for (const auto& name : temporal->results().names())
             if (name == "rank" || name == "mean_rank") mutable_results().set("temporal_" + name, temporal->results().get_string(name));
         progress.report(1.0, "hybrid");
+    }
+
+    // Each frame's light level where nothing moves (its first pass summed over the still pixels, over
+    // the sequence's mean of that sum), so the aligned averages follow a global light change; empty
+    // (constant) when under 5% of the frame is still, where frame sums would measure content, not light.
+    static std::vector<double> still_light_levels(const Sequence& first_pass, const std::vector<uint8_t>& moving) {
+        const Shape& s = first_pass.shape();
+        const auto still = static_cast<int64_t>(std::count(moving.begin(), moving.end(), uint8_t{0}));
+        if (still < s.pixels() / 20) return {};
+        std::vector<double> level(static_cast<size_t>(s.frames), 0.0);
+        double mean = 0;
+        for (int64_t f = 0; f < s.frames; ++f) {
+            for (int64_t p = 0; p < s.pixels(); ++p)
+                if (!moving[static_cast<size_t>(p)])
+                    for (int64_t c = 0; c < s.channels; ++c) {
+                        const float v = first_pass.at(f, p / s.width, p % s.width, c);
+                        if (v > 0 && std::isfinite(v)) level[static_cast<size_t>(f)] += v;
+                    }
+            mean += level[static_cast<size_t>(f)] / static_cast<double>(s.frames);
+        }
+        for (double& l : level) {
+            if (!(mean > 0) || !(l > 0)) return {};
+            l /= mean;
+        }
+        return level;
     }
 
     // The moving basis over only the listed pixels, as a compact F x 1 x N sequence.

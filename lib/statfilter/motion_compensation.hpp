@@ -32,6 +32,10 @@ struct AlignedAverageOptions {
                               // channel differences, in log(1 + x / mean) units) at which its weight is exp(-1/2)
     ValueTransform transform = ValueTransform::Log;  // the domain the samples are averaged in
     FlowPreset flow = FlowPreset::Medium;
+    // Optional global light level of each frame (empty = constant): samples are divided by their
+    // frame's level before averaging and the average multiplied by frame t's, so a light that
+    // brightens or dims over the window is followed, not averaged away.
+    std::vector<double> frame_gain;
 };
 
 struct AlignedAverageStats {

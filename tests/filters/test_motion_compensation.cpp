@@ -257,3 +257,28 @@ TEST(Hybrid, MotionCompensationCoversTheRimOfTheMovingRegion) {
     EXPECT_GT(grown.result("aligned_fraction"), tight.result("aligned_fraction"));
     EXPECT_LT(interior_mse(*grown.output, clean, 8), 1.1 * interior_mse(*tight.output, clean, 8));
 }
+
+// A global light swing with nothing moving: with each frame's light level given, the average follows
+// it exactly (noise-free input); without, it averages the swing away.
+TEST(AlignedAverage, FollowsAGlobalLightChangeGivenTheLevels) {
+    const Pan s = pan_scene(9, 40, 48, 0, 0.0);
+    Sequence lit(s.clean->shape());
+    AlignedAverageOptions o;
+    o.half_width = 4;
+    o.sigma = 1e9;
+    for (int64_t f = 0; f < 9; ++f) {
+        o.frame_gain.push_back(1.0 + 0.3 * std::sin(f));
+        for (int64_t y = 0; y < 40; ++y)
+            for (int64_t x = 0; x < 48; ++x)
+                for (int64_t c = 0; c < 3; ++c) lit.at(f, y, x, c) = static_cast<float>(s.clean->at(f, y, x, c) * o.frame_gain.back());
+    }
+    const auto passes = make_pass_guide(s.albedo.get(), nullptr);
+    Sequence out(lit.shape());
+    average(lit, lit, passes.get(), out, o);
+    EXPECT_LT(max_abs_diff(out, lit), 1e-4);
+    o.frame_gain.clear();
+    average(lit, lit, passes.get(), out, o);
+    EXPECT_GT(max_abs_diff(out, lit), 0.1);
+    o.frame_gain.assign(9, 0.0);  // levels must be positive
+    EXPECT_THROW(average(lit, lit, passes.get(), out, o), Error);
+}
