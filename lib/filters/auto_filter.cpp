@@ -15,9 +15,9 @@
 //                5-10%, at ~2.5x its time (docs/methods.md, "Motion compensation").
 //   high     - Intel Open Image Denoise (its `fast` quality: after a temporal pass it is as accurate
 //              as `high` at half the time) on every frame first when its plugin can run here, then
-//              the balanced choice on its output without the postfilter (after OIDN it changes nothing);
-//              without OIDN, the hybrid wherever something moves, with the albedo/normal passes when
-//              given.
+//              global PCA (still) or the error threshold method on its output, without the postfilter
+//              (after OIDN it changes nothing); without OIDN, the hybrid at its default (more accurate)
+//              flow wherever something moves, with the albedo/normal passes when given.
 // A postfilter the user names on this filter replaces the preset's (Filter::execute runs it), and
 // `transform` other than `preset` replaces the preset's transform.
 // It says what it picked and why (results "method" and "reason").
@@ -139,11 +139,9 @@ protected:
         for (const char* name : {"transform", "nonfinite", "shared_basis", "memory_mb"})
             chosen->params().set_string(name, resolved.get_string(name));
         if (choice.method == "hybrid")
-            for (const auto& spec : motion_params()) chosen->params().set_string(spec.name, params().get_string(spec.name));
-        if (choice.method == "hybrid" && !choice.passes) {
-            chosen->params().set_string("albedo", "");
-            chosen->params().set_string("normal", "");
-        }
+            for (const auto& spec : motion_params())
+                if (choice.passes || (spec.name != "albedo" && spec.name != "normal"))
+                    chosen->params().set_string(spec.name, params().get_string(spec.name));
         for (const auto& [name, value] : choice.params) chosen->params().set_string(name, value);
         if (!choice.prefilter.empty()) {
             chosen->params().set_string("prefilter", choice.prefilter);

@@ -7,10 +7,10 @@
 // sequence of just those pixels, diffusion on each frame's bounding box of them (plus a halo as wide
 // as the diffusion reaches). When alpha says (almost) nothing moves, the basis computed for alpha
 // reconstructs the sequence directly (global PCA, automatic rank): a still scene costs about what
-// `pca` costs. With the renderer's albedo/normal passes (motion_compensation=auto), the moving pixels
-// get the motion-compensated average instead: each frame's neighbours warped onto it along optical
-// flow on the passes (statfilter/motion_compensation.hpp), I = I_T * (1 - m) + I_MC * m, m = 1 - alpha
-// grown by a max filter (mc_dilate).
+// `pca` costs. By default (motion_compensation=auto) the moving pixels get the motion-compensated
+// average instead of I_MB and I_SF: each frame's neighbours warped onto it along optical flow, on the
+// renderer's albedo/normal passes when given, else on a first pass (statfilter/motion_compensation.hpp);
+// I = I_T * (1 - m) + I_MC * m, m = 1 - alpha grown by a max filter (mc_dilate).
 #include <algorithm>
 
 #include <opencv2/imgproc.hpp>
@@ -106,13 +106,8 @@ protected:
         }
         compute_beta(input, params(), maps);
 
-        auto temporal = create_filter(params().get_string("temporal"));
-        pass_common(params(), *temporal);
         Sequence base(s);
-        temporal->execute(input, base, Progress([&](double f, const char*) {
-            progress.report(0.3 + 0.3 * f, "temporal");
-            return true;
-        }));
+        run_temporal(input, base, {progress, 0.3, 0.3, "temporal"});
 
         // Weights of the moving basis and of diffusion per pixel and frame.
         const bool literal = params().get_string("reading") == "literal";
@@ -147,23 +142,28 @@ protected:
         mutable_results().set("beta_source", maps.beta_source);
         mutable_results().set("moving_basis_fraction", static_cast<double>(mb_pixels.size()) / P);
         mutable_results().set("diffusion_fraction", sf_fraction);
-        for (const auto& name : temporal->results().names())
-            if (name == "rank" || name == "mean_rank") mutable_results().set("temporal_" + name, temporal->results().get_string(name));
         mutable_results().set_image("beta", maps.beta);
         progress.report(1.0, "hybrid");
     }
 
 private:
+    // I_T, the global temporal filter (`temporal`), into output; its rank results as temporal_*.
+    void run_temporal(const Sequence& input, Sequence& output, const ProgressSpan& span) {
+        auto temporal = create_filter(params().get_string("temporal"));
+        pass_common(params(), *temporal);
+        temporal->execute(input, output, Progress([&](double f, const char*) {
+            span.report(f);
+            return true;
+        }));
+        for (const auto& name : temporal->results().names())
+            if (name == "rank" || name == "mean_rank") mutable_results().set("temporal_" + name, temporal->results().get_string(name));
+    }
+
     // I_T where alpha says still, the motion-compensated average where it says moving.
     void run_motion_compensated(const Sequence& input, Sequence& output, const Sequence& alpha, const TemporalSetup& setup,
                                 const Progress& progress) {
         const Shape& s = input.shape();
-        auto temporal = create_filter(params().get_string("temporal"));
-        pass_common(params(), *temporal);
-        temporal->execute(input, output, Progress([&](double f, const char*) {
-            progress.report(0.3 + 0.15 * f, "temporal");
-            return true;
-        }));
+        run_temporal(input, output, {progress, 0.3, 0.15, "temporal"});
         // The first pass the warped samples are checked against: I_T with the light diffusion pass.
         // The aligned averages then overwrite it in place (it is read in full first): one frame-sized
         // copy of the sequence less at production sizes.
@@ -212,8 +212,6 @@ private:
         mutable_results().set("aligned_frames", stats.mean_frames);
         mutable_results().set("moving_basis_fraction", 0.0);
         mutable_results().set("diffusion_fraction", 0.0);
-        for (const auto& name : temporal->results().names())
-            if (name == "rank" || name == "mean_rank") mutable_results().set("temporal_" + name, temporal->results().get_string(name));
         progress.report(1.0, "hybrid");
     }
 
