@@ -2,38 +2,12 @@
 #include <cstring>
 
 #include "api_guard.hpp"
+#include "options.hpp"
 #include "statfilter/frame_pattern.hpp"
 #include "statfilter/sequence_io.hpp"
 
 using namespace statfilter;
 using namespace statfilter::capi;
-
-namespace {
-
-std::string text_or_empty(const char* s) { return s ? std::string(s) : std::string(); }
-
-// Reads the fields of a caller's options struct that its struct_size says it has.
-template <class T>
-T read_versioned(const T* options, void (*init)(T*)) {
-    T copy;
-    init(&copy);
-    if (!options) return copy;
-    if (options->struct_size < sizeof(size_t) || options->struct_size > sizeof(T))
-        throw Error(Status::InvalidArgument, "options.struct_size " + std::to_string(options->struct_size) +
-                                                 " is not a size this library knows (call the *_init function)");
-    std::memcpy(&copy, options, options->struct_size);
-    return copy;
-}
-
-ColorConversion color_of(const char* config, const char* from, const char* to) {
-    ColorConversion c;
-    c.config = text_or_empty(config);
-    c.from = text_or_empty(from);
-    c.to = text_or_empty(to);
-    return c;
-}
-
-}  // namespace
 
 extern "C" {
 
@@ -84,12 +58,7 @@ void sf_write_options_init(sf_write_options* options) {
 sf_status sf_sequence_read(const char* pattern, const sf_read_options* options, sf_sequence* out) {
     return guarded([&] {
         require(out, "out") = nullptr;
-        const sf_read_options o = read_versioned(options, sf_read_options_init);
-        ReadOptions ro;
-        ro.channels = text_or_empty(o.channels);
-        ro.frames = text_or_empty(o.frames);
-        ro.color = color_of(o.ocio_config, o.colorspace_in, o.colorspace_out);
-        ro.progress = make_progress(o.progress, o.progress_user);
+        const ReadOptions ro = read_options_from(options);
         auto seq = read_sequence(require_string(pattern, "pattern"), ro);
         auto* handle = new sf_sequence_s;
         handle->sequence = std::move(seq);
@@ -100,19 +69,7 @@ sf_status sf_sequence_read(const char* pattern, const sf_read_options* options, 
 sf_status sf_sequence_write(sf_sequence sequence, const char* pattern, const sf_write_options* options) {
     return guarded([&] {
         Sequence& seq = require_sequence(sequence, "sequence");
-        const sf_write_options o = read_versioned(options, sf_write_options_init);
-        // A C caller may store any int in the enum: read it as one (an out-of-range enum load is UB in C++).
-        int pixel_type = 0;
-        static_assert(sizeof pixel_type == sizeof o.pixel_type, "sf_pixel_type is an int-sized enum");
-        std::memcpy(&pixel_type, &o.pixel_type, sizeof pixel_type);
-        if (pixel_type != SF_PIXEL_HALF && pixel_type != SF_PIXEL_FLOAT)
-            throw Error(Status::InvalidArgument, "pixel_type must be SF_PIXEL_HALF or SF_PIXEL_FLOAT");
-        WriteOptions wo;
-        wo.half = pixel_type == SF_PIXEL_HALF;
-        wo.compression = o.compression ? o.compression : "zip";
-        wo.color = color_of(o.ocio_config, o.colorspace_in, o.colorspace_out);
-        wo.clamp_half = o.half_overflow != 0;
-        wo.progress = make_progress(o.progress, o.progress_user);
+        const WriteOptions wo = write_options_from(options);
         write_sequence(seq, require_string(pattern, "pattern"), wo);
     });
 }

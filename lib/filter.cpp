@@ -1,6 +1,7 @@
 #include "statfilter/filter.hpp"
 
 #include "filters/frame_stages.hpp"
+#include "pipeline/stage.hpp"
 #include "statfilter/error.hpp"
 
 namespace statfilter {
@@ -16,6 +17,8 @@ Progress slice(const Progress& parent, double start, double span) {
 }
 
 }  // namespace
+
+std::unique_ptr<StreamStage> Filter::stream_stage() const { return nullptr; }
 
 void Filter::execute(const Sequence& input, Sequence& output, const Progress& progress) {
     if (input.shape() != output.shape())

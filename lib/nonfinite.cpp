@@ -13,7 +13,7 @@ NonFinitePolicy parse_nonfinite_policy(const std::string& name) {
     throw Error(Status::InvalidArgument, "unknown non-finite policy '" + name + "' (error, repair)");
 }
 
-int64_t check_nonfinite(const Sequence& seq, NonFinitePolicy policy) {
+int64_t check_nonfinite(const Sequence& seq, NonFinitePolicy policy, int64_t first_row) {
     const Shape& s = seq.shape();
     if (seq.is_contiguous()) {  // the usual case: one branch-free sweep, the detailed walk only if needed
         const float* data = seq.data();
@@ -32,7 +32,7 @@ int64_t check_nonfinite(const Sequence& seq, NonFinitePolicy policy) {
                         throw Error(Status::Numeric,
                                     std::string(std::isnan(v) ? "NaN" : "Inf") + " in frame " +
                                         std::to_string(seq.frame_numbers()[f]) + " at pixel (" + std::to_string(x) +
-                                        ", " + std::to_string(y) + ") channel '" + seq.channel_names()[c] +
+                                        ", " + std::to_string(first_row + y) + ") channel '" + seq.channel_names()[c] +
                                         "'; set nonfinite=repair to replace such samples and count them");
                     ++count;
                 }

@@ -4,6 +4,7 @@
 
 #include <filesystem>
 
+#include "pipeline/frame_source.hpp"
 #include "statfilter/color_convert.hpp"
 #include "statfilter/error.hpp"
 #include "statfilter/frame_pattern.hpp"
@@ -200,6 +201,116 @@ std::unique_ptr<Sequence> read_sequence(const std::string& pattern_text, const R
     }
     options.progress.report(1.0, "read");
     return seq;
+}
+
+}  // namespace statfilter
+
+// ---- a sequence opened for reading in pieces (bands of scanlines, whole frames) ----------------
+
+namespace statfilter {
+namespace {
+
+// Selected channels that sit side by side in one part of the file, read with one call.
+struct ChannelRun {
+    int subimage = 0, first = 0, count = 0;  // file channels [first, first + count) of the part
+    int64_t target = 0;                      // the sequence channel the run starts at
+};
+
+std::vector<ChannelRun> channel_runs(const std::vector<Selected>& selection) {
+    std::vector<ChannelRun> runs;
+    for (size_t c = 0; c < selection.size(); ++c) {
+        const FileChannel& src = selection[c].source;
+        if (!runs.empty() && runs.back().subimage == src.subimage && runs.back().first + runs.back().count == src.index) {
+            ++runs.back().count;
+        } else {
+            runs.push_back({src.subimage, src.index, 1, static_cast<int64_t>(c)});
+        }
+    }
+    return runs;
+}
+
+class ExrFrameSource final : public FrameSource {
+public:
+    ExrFrameSource(const std::string& pattern_text, const ReadOptions& options)
+        : pattern_(pattern_text), color_(options.color) {
+        const std::vector<int64_t> frames = resolve_frames(pattern_, options.frames);
+        const std::string first_path = pattern_.format(frames.front());
+        FileLayout first;
+        {
+            auto in = open_image(first_path);
+            first = read_layout(*in, first_path);
+        }
+        selection_ = select_channels(first, options.channels, first_path);
+        runs_ = channel_runs(selection_);
+        const OIIO::ImageSpec& spec = first.specs[selection_.front().source.subimage];
+        shape_ = Shape{static_cast<int64_t>(frames.size()), spec.height, spec.width, static_cast<int64_t>(selection_.size())};
+        validate_shape(shape_);
+        check_color_conversion(options.color, shape_.channels);
+        attributes_ = std::make_unique<Sequence>(Shape{shape_.frames, 1, 1, shape_.channels});
+        for (size_t c = 0; c < selection_.size(); ++c) attributes_->channel_names()[c] = selection_[c].name;
+        attributes_->source() = SequenceSource{pattern_text, options.channels};
+        // Every frame's header now, before any pixel: a missing or different frame fails the run
+        // before the work starts, and the metadata is at hand for the writer.
+        for (int64_t f = 0; f < shape_.frames; ++f) {
+            options.progress.report(static_cast<double>(f) / shape_.frames, "open");
+            attributes_->frame_numbers()[f] = frames[f];
+            const std::string path = pattern_.format(frames[f]);
+            auto in = open_image(path);
+            const FileLayout layout = read_layout(*in, path);
+            check_layout(layout, path);
+            attributes_->metadata()[f] = frame_metadata(layout.specs[selection_.front().source.subimage]);
+            origins_.push_back(layout.specs[selection_.front().source.subimage].y);
+        }
+    }
+
+    const Shape& shape() const override { return shape_; }
+    const Sequence& attributes() const override { return *attributes_; }
+
+    void read_rows(int64_t f, int64_t y0, int64_t y1, float* dst) const override {
+        const std::string path = pattern_.format(attributes_->frame_numbers()[f]);
+        auto in = open_image(path);
+        check_layout(read_layout(*in, path), path);
+        const auto pixel = static_cast<OIIO::stride_t>(shape_.channels * sizeof(float));
+        const int y = static_cast<int>(origins_[static_cast<size_t>(f)]);
+        for (const ChannelRun& run : runs_) {  // all channels of a part in one decode of each chunk
+            if (!in->read_scanlines(run.subimage, 0, y + static_cast<int>(y0), y + static_cast<int>(y1), 0, run.first,
+                                    run.first + run.count, OIIO::TypeDesc::FLOAT, dst + run.target, pixel,
+                                    pixel * shape_.width)) {
+                std::string why = in->geterror();
+                throw Error(Status::Io, "cannot read '" + path + "': " + (why.empty() ? "read failed" : why));
+            }
+        }
+        if (color_.active()) convert_colors(dst, shape_.width, y1 - y0, shape_.channels, color_);
+    }
+
+private:
+    void check_layout(const FileLayout& layout, const std::string& path) const {
+        for (const Selected& sel : selection_) {
+            const auto s = static_cast<size_t>(sel.source.subimage);
+            if (s >= layout.specs.size() || layout.specs[s].nchannels <= sel.source.index ||
+                layout.specs[s].channel_name(sel.source.index) != sel.source.name)
+                throw Error(Status::NotFound, "'" + path + "' lacks channel '" + sel.source.name + "' found in the first frame");
+            const OIIO::ImageSpec& spec = layout.specs[s];
+            if (spec.width != shape_.width || spec.height != shape_.height)
+                throw Error(Status::InvalidArgument, "'" + path + "' is " + std::to_string(spec.width) + " x " +
+                                                         std::to_string(spec.height) + ", the first frame is " +
+                                                         std::to_string(shape_.width) + " x " + std::to_string(shape_.height));
+        }
+    }
+
+    FramePattern pattern_;
+    ColorConversion color_;
+    std::vector<Selected> selection_;
+    std::vector<ChannelRun> runs_;
+    Shape shape_;
+    std::unique_ptr<Sequence> attributes_;
+    std::vector<int64_t> origins_;  // each frame's data window origin (y)
+};
+
+}  // namespace
+
+std::unique_ptr<FrameSource> open_frame_source(const std::string& pattern, const ReadOptions& options) {
+    return std::make_unique<ExrFrameSource>(pattern, options);
 }
 
 }  // namespace statfilter

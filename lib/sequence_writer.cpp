@@ -1,8 +1,10 @@
 // Writes a frame sequence as EXR (or any format OIIO writes by extension). Everything that can be
 // checked is checked before the first file is touched; each frame is written to a temporary file in
-// the target directory and renamed into place, so no half-written frame is ever visible.
+// the target directory and all are renamed into place at the end, so a failed run changes nothing.
 #include <OpenImageIO/imageio.h>
 
+#include <fcntl.h>
+#include <signal.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -10,7 +12,9 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <set>
 
+#include "pipeline/frame_source.hpp"
 #include "statfilter/color_convert.hpp"
 #include "statfilter/error.hpp"
 #include "statfilter/frame_pattern.hpp"
@@ -30,14 +34,6 @@ void check_compression(const std::string& compression) {
         if (base == k) return;
     throw Error(Status::InvalidArgument, "unknown EXR compression '" + compression +
                                              "' (none, rle, zips, zip, piz, pxr24, b44, b44a, dwaa, dwab)");
-}
-
-void check_directory(const std::string& path) {
-    fs::path dir = fs::path(path).parent_path();
-    if (dir.empty()) dir = ".";
-    std::error_code ec;
-    if (!fs::is_directory(dir, ec)) throw Error(Status::Io, "output directory '" + dir.string() + "' does not exist");
-    if (::access(dir.c_str(), W_OK) != 0) throw Error(Status::Io, "output directory '" + dir.string() + "' is not writable");
 }
 
 // Finite values beyond half's range would become Inf: refuse, or clamp when asked.
@@ -61,69 +57,220 @@ std::string temporary_name(const std::string& final_path) {
     return (p.parent_path() / tmp).string();
 }
 
-void write_frame(const std::string& path, const std::vector<float>& pixels, const Sequence& seq, int64_t f,
-                 const WriteOptions& options) {
-    const Shape& s = seq.shape();
+bool process_alive(long pid) { return pid > 0 && (::kill(static_cast<pid_t>(pid), 0) == 0 || errno == EPERM); }
+
+// The pid in a temporary name ".NAME.tmpPID_N.EXT" (0 when the name is not one of ours).
+long temporary_owner(const std::string& name) {
+    const size_t at = name.rfind(".tmp");
+    if (name.empty() || name[0] != '.' || at == std::string::npos) return 0;
+    char* end = nullptr;
+    const long pid = std::strtol(name.c_str() + at + 4, &end, 10);
+    return end && *end == '_' ? pid : 0;
+}
+
+// Writes one frame to a temporary file beside its final name and returns that file's name.
+std::string write_temporary(const std::string& path, const float* pixels, const Sequence& attributes, int64_t f,
+                            const Shape& s, const WriteOptions& options) {
     OIIO::ImageSpec spec(static_cast<int>(s.width), static_cast<int>(s.height), static_cast<int>(s.channels),
                          options.half ? OIIO::TypeDesc::HALF : OIIO::TypeDesc::FLOAT);
-    spec.channelnames = seq.channel_names();
+    spec.channelnames = attributes.channel_names();
     spec.alpha_channel = -1;
     for (int64_t c = 0; c < s.channels; ++c)
-        if (seq.channel_names()[c] == "A") spec.alpha_channel = static_cast<int>(c);
-    for (const auto& p : seq.metadata()[f]) spec.attribute(p.name().string(), p.type(), p.data());
+        if (attributes.channel_names()[c] == "A") spec.alpha_channel = static_cast<int>(c);
+    for (const auto& p : attributes.metadata()[f]) spec.attribute(p.name().string(), p.type(), p.data());
     spec.attribute("compression", options.compression);
 
     const std::string tmp = temporary_name(path);
     auto out = OIIO::ImageOutput::create(tmp);
     if (!out) throw Error(Status::Io, "cannot write '" + path + "': " + OIIO::geterror());
-    bool ok = out->open(tmp, spec) && out->write_image(OIIO::TypeDesc::FLOAT, pixels.data());
+    bool ok = out->open(tmp, spec) && out->write_image(OIIO::TypeDesc::FLOAT, pixels);
     ok = out->close() && ok;
-    std::string why = out->geterror();
+    const std::string why = out->geterror();
     out.reset();
-    std::error_code ec;
-    if (ok) fs::rename(tmp, path, ec);
-    if (!ok || ec) {
+    if (!ok) {
+        std::error_code ec;
         fs::remove(tmp, ec);
-        throw Error(Status::Io, "cannot write '" + path + "': " + (why.empty() ? std::string("rename failed") : why));
+        throw Error(Status::Io, "cannot write '" + path + "': " + (why.empty() ? std::string("write failed") : why));
     }
+    return tmp;
 }
+
+// The EXR writer as a sink. Checked at construction, before any work: the pattern, compression,
+// colour conversion, frame numbers, the directory (created when missing), that the output is not the
+// input (unless overwrite), and that no other run writes it (a lock file beside the frames). Frames
+// go to temporary files as they come; commit renames them all into place, so a failed or cancelled
+// run leaves the previous frames as they were. Temporary files of dead runs are removed.
+class ExrFrameSink final : public FrameSink {
+public:
+    ExrFrameSink(const std::string& pattern_text, const WriteOptions& options, const Sequence& attributes,
+                 const OutputChecks& checks)
+        : pattern_(pattern_text), options_(options), attributes_(attributes),
+          shape_{attributes.shape().frames, checks.height, checks.width, attributes.shape().channels} {
+        const int64_t frames = attributes.shape().frames;
+        if (!pattern_.has_frame_token() && frames > 1)
+            throw Error(Status::InvalidArgument, "output pattern '" + pattern_text +
+                                                     "' has no frame token (#, @ or %0Nd) but the sequence has " +
+                                                     std::to_string(frames) + " frames");
+        check_compression(options.compression);
+        std::vector<int64_t> numbers = attributes.frame_numbers();
+        std::sort(numbers.begin(), numbers.end());
+        if (std::adjacent_find(numbers.begin(), numbers.end()) != numbers.end())
+            throw Error(Status::InvalidArgument, "frame number " +
+                                                     std::to_string(*std::adjacent_find(numbers.begin(), numbers.end())) +
+                                                     " appears twice: each frame needs its own file");
+        check_color_conversion(options.color, shape_.channels);
+        for (int64_t f = 0; f < frames; ++f) paths_.push_back(pattern_.format(attributes.frame_numbers()[f]));
+        dir_ = fs::path(paths_.front()).parent_path();
+        if (dir_.empty()) dir_ = ".";
+        std::error_code ec;
+        if (!fs::is_directory(dir_, ec)) {
+            fs::create_directories(dir_, ec);  // as render outputs do; refused clearly when it cannot be
+            if (ec || !fs::is_directory(dir_))
+                throw Error(Status::Io, "output directory '" + dir_.string() + "' does not exist and cannot be created" +
+                                            (ec ? ": " + ec.message() : std::string()));
+        }
+        if (::access(dir_.c_str(), W_OK) != 0)
+            throw Error(Status::Io, "output directory '" + dir_.string() + "' is not writable");
+        if (!checks.input_pattern.empty() && !checks.overwrite) refuse_input(checks.input_pattern);
+        lock();
+        remove_stale_temporaries();
+        temporaries_.resize(paths_.size());
+    }
+
+    ~ExrFrameSink() override {
+        std::error_code ec;
+        for (const std::string& tmp : temporaries_)
+            if (!tmp.empty()) fs::remove(tmp, ec);
+        if (!lock_path_.empty()) fs::remove(lock_path_, ec);
+    }
+
+    void write_frame(int64_t f, const float* pixels) override {
+        const size_t count = static_cast<size_t>(shape_.pixels() * shape_.channels);
+        std::vector<float> frame(pixels, pixels + count);
+        convert_colors(frame.data(), shape_.width, shape_.height, shape_.channels, options_.color);
+        if (options_.half) {
+            if (options_.clamp_half) {
+                for (float& v : frame)
+                    if (std::isfinite(v)) v = std::max(-kHalfMax, std::min(kHalfMax, v));
+            } else {
+                check_half_range(frame, attributes_, f);
+            }
+        }
+        temporaries_[static_cast<size_t>(f)] = write_temporary(paths_[static_cast<size_t>(f)], frame.data(), attributes_, f,
+                                                               shape_, options_);
+    }
+
+    void commit() override {
+        for (size_t f = 0; f < paths_.size(); ++f)
+            if (temporaries_[f].empty())
+                throw Error(Status::Internal, "frame " + std::to_string(attributes_.frame_numbers()[f]) + " was never written");
+        for (size_t f = 0; f < paths_.size(); ++f) {
+            std::error_code ec;
+            fs::rename(temporaries_[f], paths_[f], ec);
+            if (ec) {
+                std::string done = f == 0 ? "none" : "frames before " + std::to_string(attributes_.frame_numbers()[f]);
+                throw Error(Status::Io, "cannot rename into '" + paths_[f] + "': " + ec.message() + " (" + done +
+                                            " of this run are in place)");
+            }
+            temporaries_[f].clear();
+        }
+    }
+
+private:
+    void refuse_input(const std::string& input_pattern) const {
+        const FramePattern input(input_pattern);
+        for (size_t f = 0; f < paths_.size(); ++f) {
+            const std::string in = input.format(attributes_.frame_numbers()[f]);
+            std::error_code ec;
+            if (paths_[f] == in || fs::equivalent(paths_[f], in, ec))
+                throw Error(Status::InvalidArgument, "output '" + paths_[f] + "' is the input frame '" + in +
+                                                         "': refusing to overwrite the input (give overwrite to replace it; "
+                                                         "the new frames replace the old only once all are written)");
+        }
+    }
+
+    // One writer per output sequence: a lock file beside the frames, holding the writer's pid. A lock
+    // whose process is gone (killed) is taken over.
+    void lock() {
+        lock_path_ = (dir_ / ("." + fs::path(pattern_.text()).filename().string() + ".statfilter-lock")).string();
+        for (int attempt = 0; attempt < 2; ++attempt) {
+            const int fd = ::open(lock_path_.c_str(), O_WRONLY | O_CREAT | O_EXCL, 0644);
+            if (fd >= 0) {
+                const std::string pid = std::to_string(::getpid()) + "\n";
+                const bool ok = ::write(fd, pid.data(), pid.size()) == static_cast<ssize_t>(pid.size());
+                ::close(fd);
+                if (ok) return;
+                break;
+            }
+            long owner = 0;
+            if (FILE* f = std::fopen(lock_path_.c_str(), "r")) {
+                if (std::fscanf(f, "%ld", &owner) != 1) owner = 0;
+                std::fclose(f);
+            }
+            if (process_alive(owner)) {
+                lock_path_.clear();
+                throw Error(Status::Io, "output '" + pattern_.text() + "' is being written by another run (process " +
+                                            std::to_string(owner) + ", lock file '" +
+                                            (dir_ / ("." + fs::path(pattern_.text()).filename().string() +
+                                                     ".statfilter-lock")).string() + "')");
+            }
+            std::error_code ec;
+            fs::remove(lock_path_, ec);  // left by a run that died: take it over
+        }
+        const std::string path = lock_path_;
+        lock_path_.clear();
+        throw Error(Status::Io, "cannot create the lock file '" + path + "' for output '" + pattern_.text() + "'");
+    }
+
+    // Temporary frames of this sequence left by runs that died (kill -9, power loss).
+    void remove_stale_temporaries() {
+        std::set<std::string> names;
+        for (const std::string& p : paths_) names.insert("." + fs::path(p).filename().string() + ".tmp");
+        std::error_code ec;
+        for (const auto& entry : fs::directory_iterator(dir_, ec)) {
+            const std::string name = entry.path().filename().string();
+            const size_t at = name.rfind(".tmp");
+            if (at == std::string::npos || !names.count(name.substr(0, at + 4))) continue;
+            const long owner = temporary_owner(name);
+            if (owner > 0 && !process_alive(owner)) {
+                std::error_code rm;
+                if (fs::remove(entry.path(), rm)) ++stale_removed_;
+            }
+        }
+    }
+
+    FramePattern pattern_;
+    WriteOptions options_;
+    const Sequence& attributes_;
+    Shape shape_;
+    std::vector<std::string> paths_, temporaries_;
+    fs::path dir_;
+    std::string lock_path_;
+    int64_t stale_removed_ = 0;
+};
 
 }  // namespace
 
-void write_sequence(const Sequence& seq, const std::string& pattern_text, const WriteOptions& options) {
-    const FramePattern pattern(pattern_text);
-    const Shape& s = seq.shape();
-    if (!pattern.has_frame_token() && s.frames > 1)
-        throw Error(Status::InvalidArgument, "output pattern '" + pattern_text + "' has no frame token (#, @ or %0Nd) but the sequence has " +
-                                                 std::to_string(s.frames) + " frames");
-    check_compression(options.compression);
-    std::vector<int64_t> numbers = seq.frame_numbers();
-    std::sort(numbers.begin(), numbers.end());
-    if (std::adjacent_find(numbers.begin(), numbers.end()) != numbers.end())
-        throw Error(Status::InvalidArgument, "frame number " + std::to_string(*std::adjacent_find(numbers.begin(), numbers.end())) +
-                                                 " appears twice: each frame needs its own file");
-    check_color_conversion(options.color, s.channels);
-    check_directory(pattern.format(seq.frame_numbers().front()));
+std::unique_ptr<FrameSink> open_frame_sink(const std::string& pattern, const WriteOptions& options,
+                                           const Sequence& attributes, const OutputChecks& checks) {
+    return std::make_unique<ExrFrameSink>(pattern, options, attributes, checks);
+}
 
+void write_sequence(const Sequence& seq, const std::string& pattern_text, const WriteOptions& options) {
+    const Shape& s = seq.shape();
+    Sequence attributes(Shape{s.frames, 1, 1, s.channels});
+    attributes.copy_attributes_from(seq);
+    OutputChecks checks;
+    checks.width = s.width;
+    checks.height = s.height;
+    auto sink = open_frame_sink(pattern_text, options, attributes, checks);
     std::vector<float> frame(static_cast<size_t>(s.pixels() * s.channels));
-    auto prepare = [&](int64_t f) {
-        seq.get_frame(f, frame.data());
-        convert_colors(frame.data(), s.width, s.height, s.channels, options.color);
-        if (options.half && options.clamp_half)
-            for (float& v : frame)
-                if (std::isfinite(v)) v = std::max(-kHalfMax, std::min(kHalfMax, v));
-    };
-    // Range check over every frame first, so a bad value late in the sequence writes nothing at all.
-    if (options.half && !options.clamp_half)
-        for (int64_t f = 0; f < s.frames; ++f) {
-            prepare(f);
-            check_half_range(frame, seq, f);
-        }
     for (int64_t f = 0; f < s.frames; ++f) {
         options.progress.report(static_cast<double>(f) / s.frames, "write");
-        prepare(f);
-        write_frame(pattern.format(seq.frame_numbers()[f]), frame, seq, f, options);
+        seq.get_frame(f, frame.data());
+        sink->write_frame(f, frame.data());
     }
+    sink->commit();
     options.progress.report(1.0, "write");
 }
 

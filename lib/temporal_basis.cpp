@@ -21,17 +21,16 @@ void symmetric_eigen(int64_t n, std::vector<double>& a, std::vector<double>& w) 
     for (double& v : w) v = std::max(v, 0.0);  // rounding can leave tiny negatives
 }
 
-TemporalBasis compute_temporal_basis(PreparedSeries& series, const ProgressSpan& progress) {
-    const int64_t F = series.frames();
+void accumulate_gram(const PreparedTile& t, int64_t F, std::vector<double>& gram) {
+    // Float inputs squared in double cannot overflow (3.4e38^2 ~ 1e77), so no rescaling is needed.
+    cblas_dsyrk(CblasRowMajor, CblasUpper, CblasNoTrans, static_cast<int>(F), static_cast<int>(t.n), 1.0, t.tile.data(),
+                static_cast<int>(t.n), 1.0, gram.data(), static_cast<int>(F));
+}
+
+TemporalBasis basis_from_gram(std::vector<double> gram, int64_t F, int64_t series) {
     TemporalBasis basis;
     basis.frames = F;
-    std::vector<double> gram(static_cast<size_t>(F * F), 0.0);
-    series.read(progress, [&](const PreparedTile& t) {
-        // Float inputs squared in double cannot overflow (3.4e38^2 ~ 1e77), so no rescaling is needed.
-        cblas_dsyrk(CblasRowMajor, CblasUpper, CblasNoTrans, static_cast<int>(F), static_cast<int>(t.n), 1.0,
-                    t.tile.data(), static_cast<int>(t.n), 1.0, gram.data(), static_cast<int>(F));
-        basis.series += t.n;
-    });
+    basis.series = series;
     for (int64_t i = 0; i < F; ++i)
         for (int64_t j = 0; j < i; ++j) gram[i * F + j] = gram[j * F + i];
     for (double v : gram)
@@ -40,6 +39,17 @@ TemporalBasis compute_temporal_basis(PreparedSeries& series, const ProgressSpan&
     symmetric_eigen(F, gram, basis.eigenvalues);
     basis.vectors = std::move(gram);
     return basis;
+}
+
+TemporalBasis compute_temporal_basis(PreparedSeries& series, const ProgressSpan& progress) {
+    const int64_t F = series.frames();
+    std::vector<double> gram(static_cast<size_t>(F * F), 0.0);
+    int64_t count = 0;
+    series.read(progress, [&](const PreparedTile& t) {
+        accumulate_gram(t, F, gram);
+        count += t.n;
+    });
+    return basis_from_gram(std::move(gram), F, count);
 }
 
 int64_t max_useful_rank(int64_t series, int64_t frames) { return std::max<int64_t>(0, std::min(series, frames - 1)); }

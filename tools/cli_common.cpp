@@ -46,40 +46,39 @@ const char* const kOutputHelp =
 
 static const char* nullable(const std::string& s) { return s.empty() ? nullptr : s.c_str(); }
 
-void read_input(const Args& args, const std::string& pattern, ProgressLine& progress, SequenceHandle& out) {
-    const std::string channels = args.option("channels"), frames = args.option("frames"), ocio = args.option("ocio"),
-                      in_cs = args.option("in-colorspace"), work_cs = args.option("working-colorspace");
-    sf_read_options o;
-    sf_read_options_init(&o);
-    o.channels = nullable(channels);
-    o.frames = nullable(frames);
-    o.ocio_config = nullable(ocio);
-    if (!work_cs.empty()) {
-        o.colorspace_in = nullable(in_cs);
-        o.colorspace_out = nullable(work_cs);
+IoSettings::IoSettings(const Args& args)
+    : channels_(args.option("channels")), frames_(args.option("frames")), ocio_(args.option("ocio")),
+      in_cs_(args.option("in-colorspace")), work_cs_(args.option("working-colorspace")),
+      out_cs_(args.option("out-colorspace", args.option("in-colorspace"))), compression_(args.option("compression", "zip")) {
+    sf_read_options_init(&read);
+    read.channels = nullable(channels_);
+    read.frames = nullable(frames_);
+    read.ocio_config = nullable(ocio_);
+    sf_write_options_init(&write);
+    write.pixel_type = args.flag("float") ? SF_PIXEL_FLOAT : SF_PIXEL_HALF;
+    write.half_overflow = args.flag("clamp-half") ? 1 : 0;
+    write.compression = compression_.c_str();
+    write.ocio_config = nullable(ocio_);
+    if (!work_cs_.empty()) {  // convert into the working space on read and back on write
+        read.colorspace_in = nullable(in_cs_);
+        read.colorspace_out = nullable(work_cs_);
+        write.colorspace_in = nullable(work_cs_);
+        write.colorspace_out = nullable(out_cs_);
     }
-    o.progress = &ProgressLine::callback;
-    o.progress_user = &progress;
-    check(sf_sequence_read(pattern.c_str(), &o, out.out()));
+}
+
+void read_input(const Args& args, const std::string& pattern, ProgressLine& progress, SequenceHandle& out) {
+    IoSettings io(args);
+    io.read.progress = &ProgressLine::callback;
+    io.read.progress_user = &progress;
+    check(sf_sequence_read(pattern.c_str(), &io.read, out.out()));
 }
 
 void write_output(const Args& args, const SequenceHandle& seq, const std::string& pattern, ProgressLine& progress) {
-    const std::string compression = args.option("compression", "zip"), ocio = args.option("ocio"),
-                      work_cs = args.option("working-colorspace"),
-                      out_cs = args.option("out-colorspace", args.option("in-colorspace"));
-    sf_write_options o;
-    sf_write_options_init(&o);
-    o.pixel_type = args.flag("float") ? SF_PIXEL_FLOAT : SF_PIXEL_HALF;
-    o.half_overflow = args.flag("clamp-half") ? 1 : 0;
-    o.compression = compression.c_str();
-    o.ocio_config = nullable(ocio);
-    if (!work_cs.empty()) {
-        o.colorspace_in = nullable(work_cs);
-        o.colorspace_out = nullable(out_cs);
-    }
-    o.progress = &ProgressLine::callback;
-    o.progress_user = &progress;
-    check(sf_sequence_write(seq.get(), pattern.c_str(), &o));
+    IoSettings io(args);
+    io.write.progress = &ProgressLine::callback;
+    io.write.progress_user = &progress;
+    check(sf_sequence_write(seq.get(), pattern.c_str(), &io.write));
 }
 
 std::set<std::string> merged(std::initializer_list<std::set<std::string>> sets) {

@@ -55,6 +55,19 @@ extern const std::set<std::string> kOutputOptions;
 extern const char* const kInputHelp;
 extern const char* const kOutputHelp;
 
+// The read and write options the input and output flags ask for (the strings they point to live here).
+class IoSettings {
+public:
+    explicit IoSettings(const Args& args);
+    IoSettings(const IoSettings&) = delete;
+    IoSettings& operator=(const IoSettings&) = delete;
+    sf_read_options read;
+    sf_write_options write;
+
+private:
+    std::string channels_, frames_, ocio_, in_cs_, work_cs_, out_cs_, compression_;
+};
+
 void read_input(const Args& args, const std::string& pattern, ProgressLine& progress, SequenceHandle& out);
 void write_output(const Args& args, const SequenceHandle& seq, const std::string& pattern, ProgressLine& progress);
 

@@ -1,6 +1,7 @@
 // statfilter copy|denoise IN OUT: read a sequence, run a filter over it, write the result.
 #include <chrono>
 #include <cstdio>
+#include <cstdlib>
 
 #include "cli_common.hpp"
 #include "cli_images.hpp"
@@ -43,10 +44,29 @@ std::string dashes_to_underscores(std::string s) {
     return s;
 }
 
+// --memory SIZE and --threads N into the run options (usage errors name the option).
+sf_run_options run_options(const Args& args) {
+    sf_run_options run;
+    sf_run_options_init(&run);
+    if (args.has("memory") && sf_memory_size_parse(args.option("memory").c_str(), &run.memory) != SF_OK)
+        throw UsageError("--memory: " + std::string(sf_last_error()));
+    if (args.has("threads")) {
+        const std::string text = args.option("threads");
+        char* end = nullptr;
+        const long n = std::strtol(text.c_str(), &end, 10);
+        if (text.empty() || *end != '\0' || n < 0 || n > 4096)
+            throw UsageError("--threads takes a count of threads (0 = every core), got '" + text + "'");
+        run.threads = static_cast<int>(n);
+    }
+    run.overwrite = args.flag("overwrite") ? 1 : 0;
+    return run;
+}
+
 int run_filter(const Args& args, const std::string& method) {
     if (args.positionals().size() != 2) throw UsageError("expected IN and OUT patterns (see --help)");
     const std::string in = args.positionals()[0], out = args.positionals()[1];
     const auto saves = parse_save_list(args.option("save"));  // checked before any work
+    sf_run_options run = run_options(args);
     FilterHandle filter(method);
     // Every --name VALUE that is not a common option is a parameter of the filter.
     for (const auto& [name, value] : args.extras())
@@ -54,12 +74,11 @@ int run_filter(const Args& args, const std::string& method) {
 
     const auto start = std::chrono::steady_clock::now();
     ProgressLine progress(args.flag("quiet"));
-    SequenceHandle input, output;
-    read_input(args, in, progress, input);
-    check(sf_sequence_create(input.shape(), output.out()));
-    filter.check(sf_filter_set_progress(filter.get(), &ProgressLine::callback, &progress));
-    filter.check(sf_filter_execute(filter.get(), input.get(), output.get()));
-    write_output(args, output, out, progress);
+    IoSettings io(args);
+    run.progress = &ProgressLine::callback;
+    run.progress_user = &progress;
+    // Reads, filters and writes, streamed where the method allows; everything checked before any work.
+    filter.check(sf_filter_run(filter.get(), in.c_str(), &io.read, out.c_str(), &io.write, &run));
     save_image_results(filter, saves, progress);
     progress.finish();
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -73,7 +92,12 @@ int run_filter(const Args& args, const std::string& method) {
         filter.check(sf_filter_result_string(filter.get(), name, &value));
         results.emplace_back(name, value);
     }
-    const sf_shape shape = input.shape();
+    auto result_int = [&](const char* name) {
+        double v = 0;
+        return sf_filter_result_float(filter.get(), name, &v) == SF_OK ? static_cast<int64_t>(v) : int64_t{0};
+    };
+    const sf_shape shape{result_int("run.frames"), result_int("run.height"), result_int("run.width"),
+                         result_int("run.channels")};
     if (args.flag("json")) {
         std::string j = "{\n  \"input\": " + json_string(in) + ",\n  \"output\": " + json_string(out) +
                         ",\n  \"method\": " + json_string(method) + ",\n  \"frames\": " + std::to_string(shape.frames) +
@@ -94,22 +118,29 @@ int run_filter(const Args& args, const std::string& method) {
     return 0;
 }
 
-const std::set<std::string> kFlags = {"float", "clamp-half", "json", "quiet", "help"};
+const std::set<std::string> kFlags = {"float", "clamp-half", "json", "quiet", "help", "overwrite"};
+const std::set<std::string> kRunOptions = {"memory", "threads"};
+const char* const kRunHelp =
+    "run:\n"
+    "  --memory SIZE           memory budget, e.g. 512M or 6G (default: half of physical memory); a run\n"
+    "                          that cannot fit is refused before any work, naming the size it needs\n"
+    "  --threads N             threads (default 0: every core)\n"
+    "  --overwrite             let OUT replace frames of IN (refused otherwise)\n";
 
 }  // namespace
 
 int cmd_copy(int argc, char** argv) {
-    const Args args(argc, argv, 2, kFlags, merged({kInputOptions, kOutputOptions}));
+    const Args args(argc, argv, 2, kFlags, merged({kInputOptions, kOutputOptions, kRunOptions}));
     if (args.flag("help")) {
         std::printf("usage: statfilter copy IN OUT [options]\n\nReads a sequence and writes it unchanged through the "
-                    "filter path (bit-exact with --float).\n\n%s\n%s  --json, --quiet\n", kInputHelp, kOutputHelp);
+                    "filter path (bit-exact with --float).\n\n%s\n%s\n%s  --json, --quiet\n", kInputHelp, kOutputHelp, kRunHelp);
         return 0;
     }
     return run_filter(args, "copy");
 }
 
 int cmd_denoise(int argc, char** argv) {
-    const Args args(argc, argv, 2, kFlags, merged({kInputOptions, kOutputOptions, {"method", "save"}}));
+    const Args args(argc, argv, 2, kFlags, merged({kInputOptions, kOutputOptions, kRunOptions, {"method", "save"}}));
     if (args.flag("help")) {
         std::printf("usage: statfilter denoise IN OUT [--quality fast|balanced|high | --method NAME] [--PARAM VALUE ...]\n"
                     "                           [options]\n\n"
@@ -119,8 +150,8 @@ int cmd_denoise(int argc, char** argv) {
                     "Methods and their parameters (from the library):\n",
                     kDefaultMethod, kDefaultMethodWithPrefilter);
         for (int i = 0; i < sf_filter_count(); ++i) print_parameters(sf_filter_name(i));
-        std::printf("\n%s\n%s  --save NAME=PATH[,...]  write image results, e.g. rank_map=ranks.exr (PNG: false colour)\n"
-                    "  --json                  report on stdout\n  --quiet, -q\n", kInputHelp, kOutputHelp);
+        std::printf("\n%s\n%s\n%s  --save NAME=PATH[,...]  write image results, e.g. rank_map=ranks.exr (PNG: false colour)\n"
+                    "  --json                  report on stdout\n  --quiet, -q\n", kInputHelp, kOutputHelp, kRunHelp);
         return 0;
     }
     bool prefiltered = false, quality = false;

@@ -1,5 +1,6 @@
 // The identity filter: proves the path from file to C ABI to file, bit for bit.
 #include "filters/builtin_filters.hpp"
+#include "pipeline/frame_stream_stage.hpp"
 
 namespace statfilter {
 namespace {
@@ -7,6 +8,11 @@ namespace {
 class CopyFilter final : public Filter {
 public:
     CopyFilter() : Filter({}) {}
+
+    std::unique_ptr<StreamStage> stream_stage() const override {
+        return std::make_unique<FrameStreamStage>([] { return make_copy_filter(); });
+    }
+    Footprint footprint() const override { return stream_stage()->footprint(); }
 
 protected:
     void run(const Sequence& input, Sequence& output, const Progress& progress) override {

@@ -3,6 +3,7 @@
 
 #include "filters/builtin_filters.hpp"
 #include "filters/temporal_params.hpp"
+#include "pipeline/frame_stream_stage.hpp"
 #include "statfilter/anisotropic_diffusion.hpp"
 #include "statfilter/nonfinite.hpp"
 
@@ -53,6 +54,20 @@ namespace {
 class DiffusionFilter final : public Filter {
 public:
     DiffusionFilter() : Filter(diffusion_params()) {}
+
+    std::unique_ptr<StreamStage> stream_stage() const override {
+        const ParamSet configured = params();
+        return std::make_unique<FrameStreamStage>([configured] {
+            auto filter = make_diffusion_filter();
+            filter->params() = configured;
+            return filter;
+        });
+    }
+    Footprint footprint() const override {
+        Footprint f = stream_stage()->footprint();
+        f.halo = params().get_int("iterations");  // each explicit step reaches one pixel further
+        return f;
+    }
 
 protected:
     void run(const Sequence& input, Sequence& output, const Progress& progress) override {

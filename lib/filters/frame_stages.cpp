@@ -55,8 +55,7 @@ void set_param_list(ParamSet& params, const std::string& list, const std::string
     }
 }
 
-void run_frame_stage(const std::string& stage, const ParamSet& params, const Sequence& input, Sequence& output,
-                     const Progress& progress, Results& results) {
+std::unique_ptr<Filter> make_frame_stage(const std::string& stage, const ParamSet& params) {
     const std::string& name = params.get_string(stage);
     const FilterEntry& entry = find_filter(name);
     auto filter = entry.create();  // a plugin that cannot be used throws its own error here
@@ -64,8 +63,10 @@ void run_frame_stage(const std::string& stage, const ParamSet& params, const Seq
         throw Error(Status::InvalidArgument, stage + " '" + name + "' is a temporal filter; a " + stage +
                                                  " works frame by frame (single-frame filters: see statfilter plugins)");
     set_param_list(filter->params(), params.get_string(stage + "_params"), stage + "_params");
-    filter->execute(input, output, progress);
-    const Results& own = filter->results();
+    return filter;
+}
+
+void add_stage_results(const std::string& stage, const Results& own, Results& results) {
     for (const auto& result : own.names()) {
         try {
             results.set(stage + "." + result, own.get_float(result));
@@ -73,6 +74,13 @@ void run_frame_stage(const std::string& stage, const ParamSet& params, const Seq
             results.set(stage + "." + result, own.get_string(result));
         }
     }
+}
+
+void run_frame_stage(const std::string& stage, const ParamSet& params, const Sequence& input, Sequence& output,
+                     const Progress& progress, Results& results) {
+    auto filter = make_frame_stage(stage, params);
+    filter->execute(input, output, progress);
+    add_stage_results(stage, filter->results(), results);
 }
 
 }  // namespace statfilter

@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "statfilter/filter.hpp"
 #include "statfilter/params.hpp"
 #include "statfilter/progress.hpp"
 #include "statfilter/sequence.hpp"
@@ -36,6 +37,12 @@ void set_param_list(ParamSet& params, const std::string& list, const std::string
 // "STAGE.NAME". Throws when the name is unknown, unusable here, or a temporal filter.
 void run_frame_stage(const std::string& stage, const ParamSet& params, const Sequence& input, Sequence& output,
                      const Progress& progress, Results& results);
+
+// The single-frame filter parameter `stage` names, configured from `stage`_params; throws as
+// run_frame_stage does. Used to check a configuration before any work, and by the scheduler.
+std::unique_ptr<Filter> make_frame_stage(const std::string& stage, const ParamSet& params);
+// Adds a stage filter's results to results as "STAGE.NAME".
+void add_stage_results(const std::string& stage, const Results& own, Results& results);
 
 // True when parameter `stage` exists and names a filter.
 bool has_frame_stage(const ParamSet& params, const std::string& stage);

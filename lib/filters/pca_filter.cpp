@@ -1,9 +1,8 @@
 // Global temporal PCA: every (pixel, channel) time series is replaced by its projection onto the
 // top-k temporal components of the whole sequence, x_k = mu + V_k V_k^T (x - mu).
 #include "filters/builtin_filters.hpp"
-#include "filters/low_rank_reconstruction.hpp"
 #include "filters/temporal_params.hpp"
-#include "statfilter/error.hpp"
+#include "pipeline/low_rank_stage.hpp"
 
 namespace statfilter {
 
@@ -19,31 +18,16 @@ public:
         return p;
     }
 
+    std::unique_ptr<StreamStage> stream_stage() const override {
+        return std::make_unique<LowRankStage>(low_rank_options(params(), false));
+    }
+    Footprint footprint() const override { return stream_stage()->footprint(); }
+    double resident_copies() const override { return 0; }  // pixel tiles and K coefficient images
+
 protected:
     void run(const Sequence& input, Sequence& output, const Progress& progress) override {
-        const TemporalSetup setup = temporal_setup(params());
-        const int64_t repaired = check_nonfinite(input, setup.nonfinite);
-        const Shape& shape = input.shape();
-        const auto groups = basis_groups(shape, setup.shared_basis);
-        std::string ranks;
-        double noise = 0;
-        for (size_t g = 0; g < groups.size(); ++g) {
-            const double share = 1.0 / groups.size();
-            PreparedSeries series(input, groups[g], setup.prep, setup.budget_bytes, 3);
-            const TemporalBasis basis = compute_temporal_basis(series, {progress, g * share, 0.5 * share, "basis"});
-            const RankChoice rank = choose_rank(params(), basis.eigenvalues, basis.series, basis.frames);
-            reconstruct_low_rank(series, output, basis, rank.rank, nullptr,
-                                 {progress, (g + 0.5) * share, 0.5 * share, "reconstruct"});
-            ranks += (ranks.empty() ? "" : ",") + std::to_string(rank.rank);
-            noise = std::max(noise, rank.noise_sigma);
-        }
-        if (groups.size() == 1) {
-            mutable_results().set("rank", std::stod(ranks));
-        } else {
-            mutable_results().set("rank", ranks);
-        }
-        if (params().get_string("rank") == "auto") mutable_results().set("noise_sigma", noise);
-        mutable_results().set("nonfinite_repaired", static_cast<double>(repaired));
+        run_in_memory(*stream_stage(), input, output, progress, params().get_float("memory_mb") * 1024.0 * 1024.0,
+                      mutable_results());
     }
 };
 

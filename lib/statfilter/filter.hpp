@@ -1,14 +1,21 @@
 // A filter reads one sequence and writes another of the same shape, configured by named parameters.
 #pragma once
 #include <map>
+#include <memory>
 #include <string>
 
+#include "pipeline/footprint.hpp"
 #include "statfilter/error.hpp"
 #include "statfilter/params.hpp"
 #include "statfilter/progress.hpp"
 #include "statfilter/sequence.hpp"
 
 namespace statfilter {
+
+class FrameSource;
+class FrameSink;
+class StreamStage;
+struct RunOptions;
 
 class Filter {
 public:
@@ -21,6 +28,21 @@ public:
 
     // Checks shapes, runs the filter, and carries names, frame numbers and metadata to the output.
     void execute(const Sequence& input, Sequence& output, const Progress& progress);
+
+    // Everything about the configuration that can be checked without data: the prefilter and
+    // postfilter exist, are single-frame and take their parameters. Throws like execute would.
+    void check() const;
+    // Runs from a source to a sink: streamed when the filter has a stream stage (its pre- and
+    // postfilter run frame by frame around it), else on the whole shot in memory. Everything
+    // checkable is checked before the first frame is read, memory included (pipeline/scheduler.cpp).
+    void execute(const FrameSource& source, FrameSink& sink, const RunOptions& options);
+
+    // The filter's own work as a streaming stage, or null when it needs the whole shot in memory.
+    virtual std::unique_ptr<StreamStage> stream_stage() const;
+    // What the filter's own work reaches (without its pre/postfilter), and how many sequence-sized
+    // buffers it holds besides its input and output when it runs in memory.
+    virtual Footprint footprint() const { return {}; }
+    virtual double resident_copies() const { return 2; }
 
     // Named extra inputs besides the main one (e.g. detect's "noisy"), as the filter declares them
     // with accept_input. Not owned: the caller keeps the sequence alive while it is set; nullptr

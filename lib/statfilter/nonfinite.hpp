@@ -12,7 +12,8 @@ enum class NonFinitePolicy { Error, Repair };
 NonFinitePolicy parse_nonfinite_policy(const std::string& name);
 
 // Error: throws Error(Numeric) naming the first NaN/Inf (frame, pixel, channel). Repair: returns the count.
-int64_t check_nonfinite(const Sequence& seq, NonFinitePolicy policy);
+// first_row: the row of the whole frame that seq's row 0 is (seq may be a band of scanlines).
+int64_t check_nonfinite(const Sequence& seq, NonFinitePolicy policy, int64_t first_row = 0);
 
 // Replaces each series' non-finite samples (series j is tile[f * n + j] over f) by the mean of its
 // finite samples, or 0 when it has none.

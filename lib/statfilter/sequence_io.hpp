@@ -8,6 +8,9 @@
 
 namespace statfilter {
 
+class FrameSource;
+class FrameSink;
+
 struct ColorConversion {
     std::string config;  // OCIO config file; empty = $OCIO
     std::string from, to;  // both empty = no conversion
@@ -31,7 +34,21 @@ struct WriteOptions {
     Progress progress;
 };
 
+// What an output is checked against before any work, besides its own options.
+struct OutputChecks {
+    int64_t width = 0, height = 0;  // the frames' size
+    std::string input_pattern;      // refuse to write any frame of this sequence ("" = no check) ...
+    bool overwrite = false;         // ... unless told to
+};
+
 std::unique_ptr<Sequence> read_sequence(const std::string& pattern, const ReadOptions& options);
+// The same sequence opened for reading in pieces (pipeline/frame_source.hpp): every frame's header is
+// read and checked now; pixels are decoded when asked for, all channels of a part in one read.
+std::unique_ptr<FrameSource> open_frame_source(const std::string& pattern, const ReadOptions& options);
 void write_sequence(const Sequence& sequence, const std::string& pattern, const WriteOptions& options);
+// The writer as a sink for frames of `attributes`' frame numbers, channel names and metadata (kept
+// alive by the caller): everything is checked here, the frames become visible at commit.
+std::unique_ptr<FrameSink> open_frame_sink(const std::string& pattern, const WriteOptions& options,
+                                           const Sequence& attributes, const OutputChecks& checks);
 
 }  // namespace statfilter

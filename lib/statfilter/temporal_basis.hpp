@@ -18,6 +18,10 @@ struct TemporalBasis {
 
 // Accumulates the Gram matrix over the tiles and eigendecomposes it (LAPACK dsyevd).
 TemporalBasis compute_temporal_basis(PreparedSeries& series, const ProgressSpan& progress);
+// The same in pieces, for passes that see the tiles band by band: gram (F x F, upper triangle) +=
+// the tile's centred series' inner products; then the basis of the summed Gram of `series` series.
+void accumulate_gram(const PreparedTile& tile, int64_t frames, std::vector<double>& gram);
+TemporalBasis basis_from_gram(std::vector<double> gram, int64_t frames, int64_t series);
 
 // Eigendecomposition of a symmetric F x F matrix (row-major, upper triangle used): descending.
 void symmetric_eigen(int64_t n, std::vector<double>& matrix, std::vector<double>& eigenvalues);

@@ -177,6 +177,15 @@ class sf_crop_window(Structure):
                 ("height", c_int64)]
 
 
+class sf_run_options(Structure):
+    _fields_ = [("struct_size", c_size_t),
+                ("memory", c_int64),
+                ("threads", c_int),
+                ("overwrite", c_int),
+                ("progress", sf_progress_callback),
+                ("progress_user", c_void_p)]
+
+
 class sf_merge_options(Structure):
     _fields_ = [("struct_size", c_size_t),
                 ("crops", c_char_p),
@@ -189,7 +198,7 @@ class sf_merge_options(Structure):
 STRUCTS = {cls.__name__: cls for cls in (sf_shape, sf_strides, sf_channel_stats, sf_comparison, sf_read_options,
                                          sf_write_options, sf_param_info, sf_filter_info, sf_plugin_run,
                                          sf_plugin)}
-STRUCTS.update({cls.__name__: cls for cls in (sf_crop_window, sf_merge_options)})
+STRUCTS.update({cls.__name__: cls for cls in (sf_crop_window, sf_merge_options, sf_run_options)})
 
 # ---- functions: name -> (restype, [argtypes]) -------------------------------------------------
 
@@ -246,6 +255,10 @@ FUNCTIONS = {
     "sf_filter_result_sequence": (sf_status, [sf_filter, c_char_p, _P(sf_sequence)]),
     "sf_filter_set_progress": (sf_status, [sf_filter, sf_progress_callback, c_void_p]),
     "sf_filter_execute": (sf_status, [sf_filter, sf_sequence, sf_sequence]),
+    "sf_run_options_init": (None, [_P(sf_run_options)]),
+    "sf_memory_size_parse": (sf_status, [c_char_p, _P(c_int64)]),
+    "sf_filter_run": (sf_status, [sf_filter, c_char_p, _P(sf_read_options), c_char_p, _P(sf_write_options),
+                                  _P(sf_run_options)]),
     # artifact detection, re-render list and merge
     "sf_filter_set_input": (sf_status, [sf_filter, c_char_p, sf_sequence]),
     "sf_crops_windows": (sf_status, [c_char_p, _P(sf_crop_window), c_size_t, _P(c_size_t), _P(c_int64), _P(c_int64)]),

@@ -266,6 +266,46 @@ class Filter(OwnsHandle):
             np.copyto(out, target)
         return out
 
+    def run_files(self, input_pattern, output_pattern, memory=None, threads=0, overwrite=False, channels=None,
+                  frames=None, pixel_type="half", compression="zip", progress=None):
+        """Run the filter from one EXR frame sequence to another without holding the shot in memory
+        where the filter allows it (pca and error-threshold stream; see docs/architecture.md).
+
+        memory:    the budget, bytes or a size such as "2G" (default: half of physical memory); a run
+                   that cannot fit raises OutOfMemoryError naming the smallest budget, before any work.
+        threads:   0 (default) = every core.
+        overwrite: allow the output to replace frames of the input (refused otherwise).
+        channels, frames: as read_sequence; pixel_type, compression: as write_sequence.
+        Everything is checked before the first pixel is read; frames appear together at the end.
+        """
+        from . import sequence as _sequence
+        handle = self._live()
+        run = _capi.sf_run_options()
+        _capi.lib.sf_run_options_init(ctypes.byref(run))
+        if memory is not None:
+            if isinstance(memory, str):
+                size = ctypes.c_int64()
+                check(_capi.lib.sf_memory_size_parse(_capi.encode(memory), ctypes.byref(size)))
+                memory = size.value
+            run.memory = int(memory)
+        run.threads = int(threads)
+        run.overwrite = 1 if overwrite else 0
+        adapter = ProgressAdapter(progress)
+        if progress is not None:
+            run.progress = adapter.c_function
+        read, keep_read = _sequence._read_options(channels, frames)
+        write, keep_write = _sequence._write_options(pixel_type, compression)
+        self.results = {}
+        status = _capi.lib.sf_filter_run(handle, _capi.encode_path(input_pattern), ctypes.byref(read),
+                                         _capi.encode_path(output_pattern), ctypes.byref(write), ctypes.byref(run))
+        del keep_read, keep_write
+        adapter.reraise()
+        if status != _capi.SF_OK:
+            message = _capi.text(_capi.lib.sf_filter_last_error(handle)) or _capi.text(_capi.lib.sf_last_error())
+            raise error_for(status, message)
+        self.results = self._read_results()
+        return self.results
+
     def __repr__(self):
         if not self._handle:
             return "<statfilter.Filter %r (closed)>" % self.name

@@ -76,6 +76,25 @@ def _set_colour_and_progress(options, ocio_config, colorspace_in, colorspace_out
     return adapter
 
 
+def _read_options(channels, frames):
+    """sf_read_options for a channel and frame selection, and the encoded strings it points to."""
+    options = _capi.sf_read_options()
+    _capi.lib.sf_read_options_init(ctypes.byref(options))
+    keep = (_channels_text(channels), _frames_text(frames))
+    options.channels, options.frames = keep
+    return options, keep
+
+
+def _write_options(pixel_type, compression):
+    """sf_write_options for a pixel type and compression, and the encoded string it points to."""
+    options = _capi.sf_write_options()
+    _capi.lib.sf_write_options_init(ctypes.byref(options))
+    options.pixel_type = _choice(pixel_type, _PIXEL_TYPES, "pixel_type")
+    keep = _capi.encode(compression)
+    options.compression = keep
+    return options, keep
+
+
 def read_sequence(pattern, channels=None, frames=None, ocio_config=None, colorspace_in=None,
                   colorspace_out=None, progress=None, return_info=False):
     """Read a frame sequence into a float32 array shaped (frames, height, width, channels).

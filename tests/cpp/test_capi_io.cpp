@@ -152,11 +152,23 @@ TEST(BadInput, BadFrameSpecNamesIt) {
 
 // ---- writing: failures leave nothing -----------------------------------------------------------
 
-TEST(BadOutput, NonexistentDirectory) {
+TEST(BadOutput, MissingDirectoryIsCreated) {
     TempDir dir;
     Seq seq = rgb_sequence();
-    expect_write_failure(seq.get(), dir.file("no/such/dir/o.####.exr"), write_options(), SF_ERROR_IO,
-                         {"no/such/dir", "does not exist"}, dir.path());
+    const sf_write_options options = write_options();
+    ASSERT_EQ(sf_sequence_write(seq.get(), dir.file("new/dir/o.####.exr").c_str(), &options), SF_OK) << sf_last_error();
+    EXPECT_TRUE(fs::exists(dir.path() / "new" / "dir" / "o.0001.exr"));
+}
+
+TEST(BadOutput, DirectoryThatCannotBeCreated) {
+    TempDir dir;
+    { std::ofstream(dir.file("plain")) << "a file, not a directory"; }
+    Seq seq = rgb_sequence();
+    const sf_write_options options = write_options();
+    const std::string pattern = dir.file("plain/sub/o.####.exr");
+    expect_failure(sf_sequence_write(seq.get(), pattern.c_str(), &options), SF_ERROR_IO, {"plain/sub", "cannot be created"},
+                   pattern.c_str());
+    EXPECT_EQ(files_in(dir.path()), std::vector<std::string>{"plain"});
 }
 
 TEST(BadOutput, ReadOnlyDirectory) {

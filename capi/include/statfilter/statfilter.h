@@ -263,6 +263,39 @@ SF_API sf_status sf_filter_set_progress(sf_filter filter, sf_progress_callback c
  * same strides. The input's channel names, frame numbers and metadata are copied to output. */
 SF_API sf_status sf_filter_execute(sf_filter filter, sf_sequence input, sf_sequence output);
 
+/* ---- running a filter over files, streamed ------------------------------------------------ */
+
+typedef struct sf_run_options {
+    size_t struct_size;            /* sizeof(sf_run_options), set by sf_run_options_init */
+    int64_t memory;                /* bytes the run may hold (see sf_memory_size_parse); 0 = the default,
+                                      half of physical memory */
+    int threads;                   /* 0 = every core */
+    int overwrite;                 /* 1: the output may replace frames of the input (they are replaced
+                                      only once every new frame is written); 0 (default): refused */
+    sf_progress_callback progress; /* the whole run: reading, every pass, writing */
+    void* progress_user;
+} sf_run_options;
+
+SF_API void sf_run_options_init(sf_run_options* options);
+
+/* A memory size as users write it ("512M", "6G", "1.5G", "800K", or bytes) in bytes. */
+SF_API sf_status sf_memory_size_parse(const char* text, int64_t* bytes);
+
+/* Runs the filter from the frame sequence input_pattern to output_pattern without holding the shot
+ * in memory where the filter allows it: global temporal filters (pca, error-threshold) read bands of
+ * scanlines of every frame in a statistics pass and a second pass, then rebuild and write each frame
+ * on its own; a prefilter and postfilter run frame by frame around them. Other filters run on the
+ * whole shot in memory. Everything that can be checked is checked before the first pixel is read:
+ * the filter's parameters and its pre/postfilter, every input frame's header, the output pattern,
+ * compression and directory (created when missing), that the output is not the input (unless
+ * run->overwrite), that no other run writes the same output, and that the run fits run->memory
+ * (SF_ERROR_OUT_OF_MEMORY naming the smallest budget that would do). Frames are written to temporary
+ * files and renamed into place together at the end: a failed or cancelled run leaves the previous
+ * frames as they were. The read and write options' own progress fields are not used (run->progress
+ * reports the whole run). Results are read as after sf_filter_execute. */
+SF_API sf_status sf_filter_run(sf_filter filter, const char* input_pattern, const sf_read_options* read,
+                               const char* output_pattern, const sf_write_options* write, const sf_run_options* run);
+
 /* ---- filter plugins ----------------------------------------------------------------------- */
 
 /* A filter can live in its own shared library, a plugin. statfilter finds one named

@@ -1,0 +1,32 @@
+// The caller's versioned option structs (struct_size first) read into the core's options: one
+// place for the copy that honours struct_size and for each struct's translation.
+#pragma once
+#include <cstring>
+#include <string>
+
+#include "statfilter/error.hpp"
+#include "statfilter/sequence_io.hpp"
+#include "statfilter/statfilter.h"
+
+namespace statfilter::capi {
+
+// Reads the fields of a caller's options struct that its struct_size says it has; defaults (init)
+// for the rest and for a NULL struct.
+template <class T>
+T read_versioned(const T* options, void (*init)(T*)) {
+    T copy;
+    init(&copy);
+    if (!options) return copy;
+    if (options->struct_size < sizeof(size_t) || options->struct_size > sizeof(T))
+        throw Error(Status::InvalidArgument, "options.struct_size " + std::to_string(options->struct_size) +
+                                                 " is not a size this library knows (call the *_init function)");
+    std::memcpy(&copy, options, options->struct_size);
+    return copy;
+}
+
+inline std::string text_or_empty(const char* s) { return s ? std::string(s) : std::string(); }
+
+ReadOptions read_options_from(const sf_read_options* options);
+WriteOptions write_options_from(const sf_write_options* options);
+
+}  // namespace statfilter::capi

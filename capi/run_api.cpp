@@ -1,0 +1,54 @@
+// sf_filter_run: a filter from files to files through the scheduler (streamed where it can be).
+#include "api_guard.hpp"
+#include "options.hpp"
+#include "pipeline/frame_source.hpp"
+#include "pipeline/memory_budget.hpp"
+#include "pipeline/scheduler.hpp"
+#include "statfilter/sequence_io.hpp"
+
+using namespace statfilter;
+using namespace statfilter::capi;
+
+extern "C" {
+
+void sf_run_options_init(sf_run_options* options) {
+    if (!options) return;
+    std::memset(options, 0, sizeof *options);
+    options->struct_size = sizeof *options;
+}
+
+sf_status sf_memory_size_parse(const char* text, int64_t* bytes) {
+    return guarded([&] { require(bytes, "bytes") = parse_memory_size(require_string(text, "text")); });
+}
+
+sf_status sf_filter_run(sf_filter filter, const char* input_pattern, const sf_read_options* read,
+                        const char* output_pattern, const sf_write_options* write, const sf_run_options* run) {
+    std::string* handle_error = filter ? &filter->last_error : nullptr;
+    return guarded([&] {
+        Filter& f = *require(filter, "filter").filter;
+        const sf_run_options r = read_versioned(run, sf_run_options_init);
+        if (r.memory < 0) throw Error(Status::InvalidArgument, "run.memory must be >= 0 bytes (0 = the default)");
+        if (r.threads < 0) throw Error(Status::InvalidArgument, "run.threads must be >= 0 (0 = every core)");
+        const std::string in = require_string(input_pattern, "input_pattern");
+        const std::string out = require_string(output_pattern, "output_pattern");
+        f.check();  // the filter's configuration first: cheaper than opening every frame
+        ReadOptions ro = read_options_from(read);
+        WriteOptions wo = write_options_from(write);
+        ro.progress = Progress();
+        wo.progress = Progress();
+        auto source = open_frame_source(in, ro);
+        OutputChecks checks;
+        checks.width = source->shape().width;
+        checks.height = source->shape().height;
+        checks.input_pattern = in;
+        checks.overwrite = r.overwrite != 0;
+        auto sink = open_frame_sink(out, wo, source->attributes(), checks);
+        RunOptions options;
+        options.budget_bytes = static_cast<double>(r.memory);
+        options.threads = r.threads;
+        options.progress = make_progress(r.progress, r.progress_user);
+        f.execute(*source, *sink, options);
+    }, handle_error);
+}
+
+}  // extern "C"

@@ -1,0 +1,36 @@
+#include "pipeline/frame_stage_pool.hpp"
+
+#include "filters/frame_stages.hpp"
+
+namespace statfilter {
+
+FrameStagePool::FrameStagePool(std::string stage, const ParamSet& params) : stage_(std::move(stage)), params_(params) {
+    idle_.push_back(make_frame_stage(stage_, params_));
+}
+
+void FrameStagePool::apply(int64_t f, float* pixels, const Shape& whole, const Sequence& attributes) {
+    std::unique_ptr<Filter> filter;
+    {
+        std::lock_guard<std::mutex> lock(mutex_);
+        if (!idle_.empty()) {
+            filter = std::move(idle_.back());
+            idle_.pop_back();
+        }
+    }
+    if (!filter) filter = make_frame_stage(stage_, params_);
+    Sequence frame(pixels, Shape{1, whole.height, whole.width, whole.channels},
+                   contiguous_strides(Shape{1, whole.height, whole.width, whole.channels}));
+    frame.channel_names() = attributes.channel_names();
+    frame.frame_numbers()[0] = attributes.frame_numbers()[static_cast<size_t>(f)];
+    frame.source() = attributes.source();
+    filter->execute(frame, frame, Progress());  // single-frame filters may work in place
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (last_) idle_.push_back(std::move(last_));
+    last_ = std::move(filter);
+}
+
+void FrameStagePool::add_results(Results& results) const {
+    if (last_) add_stage_results(stage_, last_->results(), results);
+}
+
+}  // namespace statfilter

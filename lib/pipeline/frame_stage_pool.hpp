@@ -1,0 +1,33 @@
+// A single-frame filter (a prefilter or postfilter) applied to one frame at a time from several
+// threads: each thread borrows an instance of its own, configured once from the parameters.
+#pragma once
+#include <memory>
+#include <mutex>
+#include <string>
+#include <vector>
+
+#include "statfilter/filter.hpp"
+
+namespace statfilter {
+
+class FrameStagePool {
+public:
+    // stage: "prefilter" or "postfilter"; params: the owning filter's parameters. Throws when the
+    // stage cannot be made (checked before any work).
+    FrameStagePool(std::string stage, const ParamSet& params);
+
+    // Filters frame index f of a shot of `shape` in place: pixels are contiguous (row, pixel,
+    // channel); attributes give its frame number, channel names and origin (for guide passes).
+    void apply(int64_t f, float* pixels, const Shape& shape, const Sequence& attributes);
+    // The stage's results ("STAGE.NAME") from the last frame filtered.
+    void add_results(Results& results) const;
+
+private:
+    std::string stage_;
+    const ParamSet& params_;
+    std::mutex mutex_;
+    std::vector<std::unique_ptr<Filter>> idle_;
+    std::unique_ptr<Filter> last_;
+};
+
+}  // namespace statfilter

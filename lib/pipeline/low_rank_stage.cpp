@@ -1,0 +1,312 @@
+#include "pipeline/low_rank_stage.hpp"
+
+#include <cblas.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include <opencv2/imgproc.hpp>
+
+#include "filters/low_rank_reconstruction.hpp"
+#include "filters/temporal_params.hpp"
+#include "pipeline/memory_budget.hpp"
+#include "pipeline/parallel.hpp"
+#include "statfilter/error.hpp"
+
+namespace statfilter {
+namespace {
+
+// One channel group's model: its Gram, basis and rank, then every series' mean and coefficients.
+struct GroupModel {
+    ChannelSelection group;
+    std::vector<double> gram;
+    int64_t series = 0;
+    TemporalBasis basis;
+    RankChoice choice;
+    int64_t stored = 0;           // components kept per series (the rank, or max_rank per pixel)
+    std::vector<double> coeff;    // stored x n_total, component-major; series j = pixel * count + channel
+    std::vector<double> means;    // n_total
+    std::vector<int64_t> ranks;   // per pixel (error threshold)
+    std::vector<cv::Mat> planes;  // error threshold: pooled coefficient energy per component, and beyond
+    cv::Mat tail;
+};
+
+// A band of rows [y0, y1) of every frame, as a sequence: a view of the source's memory when it
+// holds the shot, else read into buffer (frames in parallel).
+std::unique_ptr<Sequence> band_view(const FrameSource& source, int64_t y0, int64_t y1, std::vector<float>& buffer,
+                                    int threads) {
+    const Shape& s = source.shape();
+    const Shape band{s.frames, y1 - y0, s.width, s.channels};
+    std::unique_ptr<Sequence> view;
+    if (const Sequence* whole = source.in_memory()) {
+        const Strides& st = whole->strides();
+        float* origin = const_cast<float*>(whole->data());  // read only: PreparedSeries never writes its input
+        view = std::make_unique<Sequence>(
+            reinterpret_cast<float*>(reinterpret_cast<char*>(origin) + y0 * st.row), band, st);
+    } else {
+        const int64_t frame_floats = band.pixels() * band.channels;
+        buffer.resize(static_cast<size_t>(frame_floats * band.frames));
+        parallel_for(band.frames, threads,
+                     [&](int64_t f) { source.read_rows(f, y0, y1, buffer.data() + f * frame_floats); },
+                     {Progress(), 0, 1, "read"});
+        view = std::make_unique<Sequence>(buffer.data(), band, contiguous_strides(band));
+    }
+    view->frame_numbers() = source.attributes().frame_numbers();
+    view->channel_names() = source.attributes().channel_names();
+    return view;
+}
+
+void pool(cv::Mat& plane, int window) {
+    if (window > 1) cv::boxFilter(plane, plane, -1, cv::Size(window, window), cv::Point(-1, -1), true, cv::BORDER_REFLECT);
+}
+
+// Error threshold: per-pixel ranks from the pooled coefficient energies (the study's Delta(error)
+// test against the local noise energy, estimated from the components beyond max_rank).
+void choose_pixel_ranks(GroupModel& m, const LowRankOptions& o, const Shape& s) {
+    for (auto& plane : m.planes) pool(plane, o.window);
+    pool(m.tail, o.window);
+    const int64_t useful = max_useful_rank(m.basis.series, m.basis.frames);
+    const int64_t tail_components = useful - m.stored;
+    // Without a tail (max_rank leaves none, few frames) the global noise estimate stands in.
+    const double global_noise =
+        std::pow(gavish_donoho_rank(m.basis.eigenvalues, m.basis.series, m.basis.frames).noise_sigma, 2) * m.group.count;
+    m.ranks.assign(static_cast<size_t>(s.pixels()), 0);
+    for (int64_t p = 0; p < s.pixels(); ++p) {
+        const double noise = tail_components > 0 ? m.tail.at<double>(static_cast<int>(p)) / tail_components : global_noise;
+        int64_t k = 0;
+        while (k < m.stored && m.planes[k].at<double>(static_cast<int>(p)) > o.threshold * noise) ++k;
+        m.ranks[static_cast<size_t>(p)] = k;
+    }
+}
+
+}  // namespace
+
+Footprint LowRankStage::footprint() const {
+    Footprint f;
+    f.reach = TemporalReach::Shot;
+    f.halo = options_.per_pixel ? options_.window / 2 : 0;  // pooling reads the coefficient images, not the input
+    f.passes = 2;
+    f.streams = true;
+    return f;
+}
+
+double LowRankStage::band_row_bytes(const Shape& s) const {
+    // The band in float plus its prepared double tile (PreparedSeries keeps one tile at a time).
+    return static_cast<double>(s.frames) * s.width * s.channels * (sizeof(float) + sizeof(double));
+}
+
+double LowRankStage::fixed_bytes(const Shape& s, int64_t rank, int threads) const {
+    const double P = static_cast<double>(s.pixels()), C = static_cast<double>(s.channels);
+    const double stored = options_.per_pixel ? std::min<int64_t>(options_.max_rank, s.frames - 1) : rank;
+    double bytes = (stored + 1) * P * C * sizeof(double);                  // coefficients and means
+    if (options_.per_pixel) bytes += (stored + 1) * P * sizeof(double) + P * (sizeof(int64_t) + sizeof(float));
+    bytes += threads * P * C * (sizeof(double) + sizeof(float));           // one frame being rebuilt per thread
+    bytes += 2.0 * s.frames * s.frames * sizeof(double);                   // Gram and basis
+    return bytes;
+}
+
+double LowRankStage::min_bytes(const Shape& s, int threads) const {
+    const int64_t rank = options_.per_pixel ? options_.max_rank : 1;
+    return fixed_bytes(s, std::min<int64_t>(rank, std::max<int64_t>(s.frames - 1, 0)), threads) + band_row_bytes(s);
+}
+
+void LowRankStage::run(const FrameSource& source, const FrameConsumer& consume, const StageContext& ctx, Results& results) {
+    const Shape& s = source.shape();
+    const int64_t F = s.frames;
+    const Progress none;
+    const Progress& progress = ctx.progress ? *ctx.progress : none;
+    std::vector<GroupModel> models;
+    for (const ChannelSelection& g : basis_groups(s, options_.shared_basis)) {
+        GroupModel m;
+        m.group = g;
+        m.gram.assign(static_cast<size_t>(F * F), 0.0);
+        models.push_back(std::move(m));
+    }
+    // Band height: the whole shot when it is in memory, else as many rows as the budget leaves.
+    const bool whole = source.in_memory() != nullptr;
+    const int64_t bound_rank = options_.per_pixel ? options_.max_rank : 1;
+    const double fixed = fixed_bytes(s, std::min<int64_t>(bound_rank, std::max<int64_t>(F - 1, 0)), ctx.threads);
+    const auto fit_rows = static_cast<int64_t>((ctx.budget_bytes - fixed) / band_row_bytes(s));
+    const int64_t rows = whole ? s.height : std::max<int64_t>(1, std::min(s.height, fit_rows));
+    const double tile_budget = whole ? ctx.budget_bytes : band_row_bytes(s) * rows;
+    std::vector<float> buffer;
+    int64_t repaired = 0;
+
+    // The prepared series of one band stay cached between the passes when the whole shot is one tile.
+    std::vector<std::unique_ptr<PreparedSeries>> cached(models.size());
+    std::unique_ptr<Sequence> whole_view;
+    auto series_of = [&](size_t g, const Sequence& band) -> PreparedSeries& {
+        if (!cached[g] || !whole)
+            cached[g] = std::make_unique<PreparedSeries>(band, models[g].group, options_.prep, tile_budget, 3);
+        return *cached[g];
+    };
+    const int64_t bands = (s.height + rows - 1) / rows;
+
+    // Pass 1: the Gram of every group, band by band.
+    for (int64_t b = 0; b < bands; ++b) {
+        const int64_t y0 = b * rows, y1 = std::min(s.height, y0 + rows);
+        auto band = band_view(source, y0, y1, buffer, ctx.threads);
+        repaired += check_nonfinite(*band, options_.nonfinite, y0);
+        const double at = 0.4 * b / bands, span = 0.4 / bands;
+        for (size_t g = 0; g < models.size(); ++g) {
+            GroupModel& m = models[g];
+            series_of(g, *band).read({progress, at + span * g / models.size(), span / models.size(), "basis"},
+                                     [&](const PreparedTile& t) { accumulate_gram(t, F, m.gram); m.series += t.n; });
+        }
+        if (whole) whole_view = std::move(band);
+    }
+    for (GroupModel& m : models) {
+        m.basis = basis_from_gram(std::move(m.gram), F, m.series);
+        if (options_.per_pixel) {
+            m.stored = std::min(options_.max_rank, max_useful_rank(m.basis.series, m.basis.frames));
+            for (int64_t i = 0; i < m.stored; ++i)
+                m.planes.emplace_back(static_cast<int>(s.height), static_cast<int>(s.width), CV_64F, cv::Scalar(0));
+            m.tail = cv::Mat(static_cast<int>(s.height), static_cast<int>(s.width), CV_64F, cv::Scalar(0));
+        } else {
+            m.choice = options_.rank(m.basis.eigenvalues, m.basis.series, m.basis.frames);
+            m.stored = m.choice.rank;
+        }
+        const auto n_total = static_cast<size_t>(s.pixels() * m.group.count);
+        m.coeff.assign(static_cast<size_t>(m.stored) * n_total, 0.0);
+        m.means.assign(n_total, 0.0);
+    }
+
+    // The coefficients' size is known now (an automatic rank): the bands of pass 2 shrink to leave
+    // room for them, or the run stops here, before anything is written.
+    int64_t rows2 = rows;
+    if (!whole) {
+        int64_t most = 0;
+        for (const GroupModel& m : models) most = std::max(most, m.stored);
+        const double held = fixed_bytes(s, most, ctx.threads);
+        check_memory_budget(held + band_row_bytes(s), ctx.budget_bytes,
+                            "the temporal model (" + std::to_string(most) + " components per series)");
+        rows2 = std::max<int64_t>(1, std::min(rows, static_cast<int64_t>((ctx.budget_bytes - held) / band_row_bytes(s))));
+    }
+    const int64_t bands2 = whole ? bands : (s.height + rows2 - 1) / rows2;
+
+    // Pass 2: every series' mean and coefficients (and, per pixel, their energies).
+    std::vector<double> a;
+    for (int64_t b = 0; b < bands2; ++b) {
+        const int64_t y0 = b * rows2, y1 = std::min(s.height, y0 + rows2);
+        auto band = whole ? std::move(whole_view) : band_view(source, y0, y1, buffer, ctx.threads);
+        const double at = 0.4 + 0.3 * b / bands2, span = 0.3 / bands2;
+        for (size_t g = 0; g < models.size(); ++g) {
+            GroupModel& m = models[g];
+            const int64_t count = m.group.count, K = m.stored;
+            const auto n_total = static_cast<int64_t>(m.means.size());
+            const int64_t offset = y0 * s.width * count;  // the band's first series in the whole frame
+            auto keep = [&](const PreparedTile& t) {
+                const int64_t n = t.n, first = offset + t.range.begin * count;
+                a.resize(static_cast<size_t>(std::max<int64_t>(K, 1) * n));
+                if (K > 0) project_onto_basis(m.basis, K, t.tile.data(), n, a.data());
+                std::copy(t.means.begin(), t.means.end(), m.means.begin() + first);
+                for (int64_t i = 0; i < K; ++i) std::copy(a.begin() + i * n, a.begin() + (i + 1) * n, m.coeff.begin() + i * n_total + first);
+                if (!options_.per_pixel) return;
+                for (int64_t j = 0; j < n; ++j) {
+                    const auto p = static_cast<int>(y0 * s.width + t.range.begin + j / count);
+                    double total = 0, kept = 0;
+                    for (int64_t f = 0; f < F; ++f) total += t.tile[f * n + j] * t.tile[f * n + j];
+                    for (int64_t i = 0; i < K; ++i) {
+                        const double ai2 = a[i * n + j] * a[i * n + j];
+                        m.planes[i].at<double>(p) += ai2;
+                        kept += ai2;
+                    }
+                    m.tail.at<double>(p) += std::max(0.0, total - kept);
+                }
+            };
+            series_of(g, *band).consume({progress, at + span * g / models.size(), span / models.size(), "coefficients"}, keep);
+        }
+        for (auto& c : cached) c.reset();
+    }
+    if (options_.per_pixel)
+        for (GroupModel& m : models) {
+            choose_pixel_ranks(m, options_, s);
+            m.planes.clear();
+            m.tail.release();
+        }
+
+    // Each frame rebuilt on its own, x_t = mu + sum_i V[t, i] a_i, undone from the transform.
+    const int64_t P = s.pixels();
+    parallel_for(F, ctx.threads, [&](int64_t t) {
+        std::vector<float> frame(static_cast<size_t>(P * s.channels));
+        std::vector<double> values;
+        constexpr double lim = std::numeric_limits<float>::max();
+        for (const GroupModel& m : models) {
+            const int64_t count = m.group.count, n_total = static_cast<int64_t>(m.means.size());
+            values.assign(static_cast<size_t>(n_total), 0.0);
+            for (int64_t i = 0; i < m.stored; ++i) {
+                const double v = m.basis.vector(t, i);
+                const double* ai = m.coeff.data() + i * n_total;
+                if (m.ranks.empty()) {
+                    for (int64_t j = 0; j < n_total; ++j) values[j] += v * ai[j];
+                } else {
+                    for (int64_t j = 0; j < n_total; ++j)
+                        if (i < m.ranks[static_cast<size_t>(j / count)]) values[j] += v * ai[j];
+                }
+            }
+            for (int64_t j = 0; j < n_total; ++j) values[j] += m.means[j];
+            inverse_transform(options_.prep.transform, values.data(), values.size());
+            for (int64_t j = 0; j < n_total; ++j) {
+                const double x = values[j];  // saturate at the float range; NaN passes through
+                frame[static_cast<size_t>((j / count) * s.channels + m.group.first + j % count)] =
+                    static_cast<float>(x > lim ? lim : (x < -lim ? -lim : x));
+            }
+        }
+        consume(t, frame.data());
+    }, {progress, 0.7, 0.3, "reconstruct"});
+
+    if (options_.per_pixel) {
+        auto rank_map = std::make_shared<Sequence>(Shape{1, s.height, s.width, static_cast<int64_t>(models.size())});
+        double rank_sum = 0;
+        for (size_t g = 0; g < models.size(); ++g) {
+            for (int64_t p = 0; p < P; ++p) {
+                const auto k = models[g].ranks[static_cast<size_t>(p)];
+                rank_sum += static_cast<double>(k);
+                rank_map->at(0, p / s.width, p % s.width, static_cast<int64_t>(g)) = static_cast<float>(k);
+            }
+            rank_map->channel_names()[g] =
+                models.size() == 1 ? "rank" : "rank." + source.attributes().channel_names()[models[g].group.first];
+        }
+        results.set("mean_rank", rank_sum / (static_cast<double>(P) * models.size()));
+        results.set("nonfinite_repaired", static_cast<double>(repaired));
+        results.set_image("rank_map", rank_map);
+        return;
+    }
+    std::string ranks;
+    double noise = 0;
+    for (const GroupModel& m : models) {
+        ranks += (ranks.empty() ? "" : ",") + std::to_string(m.choice.rank);
+        noise = std::max(noise, m.choice.noise_sigma);
+    }
+    if (models.size() == 1) {
+        results.set("rank", static_cast<double>(models.front().choice.rank));
+    } else {
+        results.set("rank", ranks);
+    }
+    if (options_.report_noise) results.set("noise_sigma", noise);
+    results.set("nonfinite_repaired", static_cast<double>(repaired));
+}
+
+LowRankOptions low_rank_options(const ParamSet& params, bool per_pixel) {
+    const TemporalSetup setup = temporal_setup(params);
+    LowRankOptions o;
+    o.prep = setup.prep;
+    o.nonfinite = setup.nonfinite;
+    o.shared_basis = setup.shared_basis;
+    o.per_pixel = per_pixel;
+    if (per_pixel) {
+        o.max_rank = params.get_int("max_rank");
+        o.threshold = params.get_float("threshold");
+        o.window = static_cast<int>(params.get_int("window"));
+    } else {
+        const ParamSet rank_params = params;  // the rule keeps its own copy of the rank parameters
+        o.rank = [rank_params](const std::vector<double>& ev, int64_t series, int64_t frames) {
+            return choose_rank(rank_params, ev, series, frames);
+        };
+        o.report_noise = params.get_string("rank") == "auto";
+    }
+    return o;
+}
+
+}  // namespace statfilter

@@ -1,0 +1,60 @@
+// Global temporal PCA (rank fixed, by energy or automatic) and the study's error threshold method
+// (per-pixel ranks), as a stage that streams: a statistics pass over bands of scanlines of every
+// frame accumulates the F x F Gram; a second pass over the bands projects every series onto the
+// basis and keeps its coefficients (K images) and mean; then each frame is rebuilt on its own,
+// x_t = mu + sum_i V[t, i] a_i, and handed on as soon as it is final. Memory is the band (set by the
+// budget) plus K + 1 coefficient images, never the shot. In memory the band is the whole shot and
+// the passes read it in place.
+#pragma once
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <vector>
+
+#include "pipeline/stage.hpp"
+#include "statfilter/nonfinite.hpp"
+#include "statfilter/params.hpp"
+#include "statfilter/prepared_series.hpp"
+#include "statfilter/progress.hpp"
+#include "statfilter/temporal_basis.hpp"
+
+namespace statfilter {
+
+struct LowRankOptions {
+    SeriesPrep prep;
+    NonFinitePolicy nonfinite = NonFinitePolicy::Error;
+    bool shared_basis = true;
+    // Global rank: from the basis' eigenvalues, the series count and the frame count.
+    std::function<RankChoice(const std::vector<double>&, int64_t, int64_t)> rank;
+    bool report_noise = false;  // rank=auto: report the estimated noise sigma
+    // Per-pixel ranks (the error threshold method) instead of one global rank.
+    bool per_pixel = false;
+    int64_t max_rank = 8;
+    double threshold = 2;
+    int window = 9;
+};
+
+class LowRankStage final : public StreamStage {
+public:
+    explicit LowRankStage(LowRankOptions options) : options_(std::move(options)) {}
+
+    Footprint footprint() const override;
+    double min_bytes(const Shape& shape, int threads) const override;
+    // Runs the passes over the source and hands every rebuilt frame to consume. Results: rank (or
+    // mean_rank and the image rank_map), noise_sigma, nonfinite_repaired.
+    void run(const FrameSource& source, const FrameConsumer& consume, const StageContext& context,
+             Results& results) override;
+
+    // Bytes held besides the band for a shape, with `rank` components kept per series.
+    double fixed_bytes(const Shape& shape, int64_t rank, int threads) const;
+    // Bytes per scanline of band.
+    double band_row_bytes(const Shape& shape) const;
+
+private:
+    LowRankOptions options_;
+};
+
+// The typed options of the pca and error-threshold filters, from their parameter tables.
+LowRankOptions low_rank_options(const ParamSet& params, bool per_pixel);
+
+}  // namespace statfilter

@@ -1,0 +1,56 @@
+#include "pipeline/parallel.hpp"
+
+#include <algorithm>
+#include <atomic>
+#include <exception>
+#include <mutex>
+#include <thread>
+#include <vector>
+
+namespace statfilter {
+
+int resolve_threads(int requested) {
+    if (requested > 0) return requested;
+    const unsigned cores = std::thread::hardware_concurrency();
+    return cores > 0 ? static_cast<int>(cores) : 1;
+}
+
+void parallel_for(int64_t count, int threads, const std::function<void(int64_t)>& body, const ProgressSpan& progress) {
+    std::atomic<int64_t> next{0}, done{0};
+    std::atomic<bool> stop{false};
+    std::exception_ptr failure;
+    std::mutex failure_mutex;
+    auto record = [&](std::exception_ptr e) {
+        std::lock_guard<std::mutex> lock(failure_mutex);
+        if (!failure) failure = e;
+        stop = true;
+    };
+    auto work = [&](bool reporter) {
+        while (!stop) {
+            const int64_t i = next++;
+            if (i >= count) break;
+            try {
+                body(i);
+                ++done;
+                if (reporter) progress.report(static_cast<double>(done) / static_cast<double>(count));
+            } catch (...) {
+                record(std::current_exception());
+            }
+        }
+    };
+    const int extra = static_cast<int>(std::min<int64_t>(std::max(threads, 1), std::max<int64_t>(count, 1))) - 1;
+    std::vector<std::thread> pool;
+    pool.reserve(static_cast<size_t>(extra));
+    for (int t = 0; t < extra; ++t) pool.emplace_back(work, false);
+    try {
+        progress.report(0.0);
+    } catch (...) {
+        record(std::current_exception());
+    }
+    work(true);
+    for (auto& t : pool) t.join();
+    if (failure) std::rethrow_exception(failure);
+    progress.report(1.0);
+}
+
+}  // namespace statfilter

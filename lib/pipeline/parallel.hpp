@@ -1,0 +1,20 @@
+// Work items spread over threads, with progress and cancellation reported from the calling thread
+// only (callbacks into Python or a host application never run on a worker).
+#pragma once
+#include <cstdint>
+#include <functional>
+
+#include "statfilter/progress.hpp"
+
+namespace statfilter {
+
+// The thread count to use: requested, or every core when requested <= 0.
+int resolve_threads(int requested);
+
+// Runs body(i) for i in [0, count) on up to `threads` threads (the caller's included). Items start in
+// order; progress.report(done / count) runs on the calling thread between its items. The first
+// exception (a failure, or cancellation from the progress callback) stops new items from starting and
+// is rethrown here once the running ones finish.
+void parallel_for(int64_t count, int threads, const std::function<void(int64_t)>& body, const ProgressSpan& progress);
+
+}  // namespace statfilter

@@ -1,0 +1,114 @@
+// Filter::check and Filter::execute(source, sink): the scheduler's side of a filter.
+#include "pipeline/scheduler.hpp"
+
+#include <vector>
+
+#include "filters/frame_stages.hpp"
+#include "pipeline/frame_stage_pool.hpp"
+#include "pipeline/memory_budget.hpp"
+#include "pipeline/parallel.hpp"
+#include "pipeline/scratch_frames.hpp"
+#include "pipeline/stage.hpp"
+#include "statfilter/filter.hpp"
+
+namespace statfilter {
+namespace {
+
+std::string shot_text(const Shape& s) {
+    return std::to_string(s.frames) + " frames of " + std::to_string(s.width) + " x " + std::to_string(s.height) +
+           " x " + std::to_string(s.channels);
+}
+
+}  // namespace
+
+void Filter::check() const {
+    for (const char* stage : {"prefilter", "postfilter"})
+        if (has_frame_stage(params_, stage)) make_frame_stage(stage, params_);
+}
+
+void Filter::execute(const FrameSource& source, FrameSink& sink, const RunOptions& options) {
+    check();
+    const Shape& s = source.shape();
+    const int threads = resolve_threads(options.threads);
+    const double budget = options.budget_bytes > 0 ? options.budget_bytes : static_cast<double>(default_memory_budget());
+    const double frame_bytes = static_cast<double>(s.pixels()) * s.channels * sizeof(float);
+    const bool pre = has_frame_stage(params_, "prefilter"), post = has_frame_stage(params_, "postfilter");
+    std::unique_ptr<FrameStagePool> prefilter, postfilter;
+    results_.clear();
+    const Progress& progress = options.progress;
+
+    double needed = 0;
+    const auto stage = stream_stage();
+    const bool streamed = stage != nullptr;
+    if (stage) {
+        if (pre) prefilter = std::make_unique<FrameStagePool>("prefilter", params_);
+        if (post) postfilter = std::make_unique<FrameStagePool>("postfilter", params_);
+        // A frame stage holds its frame and a few working copies of it (diffusion: doubles) per thread.
+        const double frame_stages = (pre || post) ? threads * frame_bytes * 6 : 0;
+        needed = stage->min_bytes(s, threads) + frame_stages;
+        check_memory_budget(needed, budget, "this run (" + shot_text(s) + ", streamed)");
+        const FrameSource* input = &source;
+        std::unique_ptr<ScratchFrames> scratch;
+        double start = 0;
+        if (pre) {
+            // The temporal passes read bands of every prefiltered frame twice: park them on disk.
+            start = 0.3;
+            scratch = std::make_unique<ScratchFrames>(s, source.attributes());
+            parallel_for(s.frames, threads, [&](int64_t f) {
+                std::vector<float> frame(static_cast<size_t>(s.pixels() * s.channels));
+                source.read_rows(f, 0, s.height, frame.data());
+                prefilter->apply(f, frame.data(), s, source.attributes());
+                scratch->write_frame(f, frame.data());
+            }, {progress, 0.0, start, "prefilter"});
+            input = scratch.get();
+        }
+        const Progress stage_progress([&](double fraction, const char* name) {
+            progress.report(start + (1 - start) * fraction, name);
+            return true;
+        });
+        StageContext context;
+        context.threads = threads;
+        context.budget_bytes = budget - frame_stages;
+        context.progress = &stage_progress;
+        stage->run(*input, [&](int64_t f, float* pixels) {
+            if (post) postfilter->apply(f, pixels, s, source.attributes());
+            sink.write_frame(f, pixels);
+        }, context, results_);
+    } else {
+        // The whole shot in memory: input, output, the filter's own copies, and the stages' outputs.
+        const double copies = 2 + resident_copies() + (pre ? 1 : 0) + (post ? 1 : 0);
+        needed = (source.in_memory() ? copies - 1 : copies) * frame_bytes * static_cast<double>(s.frames);
+        check_memory_budget(needed, budget, "this run (" + shot_text(s) + ", in memory: the filter needs the whole shot)");
+        std::unique_ptr<Sequence> owned;
+        const Sequence* input = source.in_memory();
+        if (!input) {
+            owned = std::make_unique<Sequence>(s);
+            parallel_for(s.frames, threads, [&](int64_t f) { source.read_rows(f, 0, s.height, &owned->at(f, 0, 0, 0)); },
+                         {progress, 0.0, 0.2, "read"});
+            owned->copy_attributes_from(source.attributes());
+            input = owned.get();
+        }
+        Sequence output(s);
+        // execute runs the prefilter and postfilter itself, on the whole shot.
+        execute(*input, output, Progress([&](double fraction, const char* name) {
+            progress.report(0.2 + 0.7 * fraction, name);
+            return true;
+        }));
+        parallel_for(s.frames, threads, [&](int64_t f) { sink.write_frame(f, &output.at(f, 0, 0, 0)); },
+                     {progress, 0.9, 0.1, "write"});
+    }
+    if (prefilter) prefilter->add_results(results_);
+    if (postfilter) postfilter->add_results(results_);
+    results_.set("run.frames", static_cast<double>(s.frames));
+    results_.set("run.width", static_cast<double>(s.width));
+    results_.set("run.height", static_cast<double>(s.height));
+    results_.set("run.channels", static_cast<double>(s.channels));
+    results_.set("run.streamed", streamed ? 1.0 : 0.0);
+    results_.set("run.threads", static_cast<double>(threads));
+    results_.set("run.memory_budget", budget);
+    results_.set("run.memory_needed", needed);
+    sink.commit();
+    progress.report(1.0, "done");
+}
+
+}  // namespace statfilter

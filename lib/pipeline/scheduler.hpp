@@ -1,0 +1,26 @@
+// The scheduler: runs a filter from a frame source to a frame sink within a memory budget on a
+// number of threads. It owns the loop over frames, the threads, the memory check and progress; the
+// filter's stages only say what they reach (footprint) and do their work.
+#pragma once
+#include <cstdint>
+#include <string>
+
+#include "statfilter/progress.hpp"
+
+namespace statfilter {
+
+struct RunOptions {
+    double budget_bytes = 0;  // 0 = the default share of physical memory (pipeline/memory_budget.hpp)
+    int threads = 0;          // 0 = every core
+    Progress progress;
+};
+
+// The memory a run holds, as the scheduler will run it (streamed or in memory), for the message of a
+// refusal and for reports.
+struct RunPlan {
+    bool streamed = false;
+    double bytes = 0;       // the least memory the run needs
+    std::string reason;     // what runs, and how
+};
+
+}  // namespace statfilter

@@ -1,0 +1,62 @@
+#include "pipeline/scratch_frames.hpp"
+
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstdlib>
+#include <cstring>
+#include <string>
+#include <vector>
+
+#include "statfilter/error.hpp"
+
+namespace statfilter {
+namespace {
+
+// pread/pwrite until done: both may move fewer bytes than asked.
+void transfer(int fd, char* data, size_t bytes, off_t offset, bool write) {
+    while (bytes > 0) {
+        const ssize_t n = write ? ::pwrite(fd, data, bytes, offset) : ::pread(fd, data, bytes, offset);
+        if (n < 0 && errno == EINTR) continue;
+        if (n <= 0)
+            throw Error(Status::Io, std::string("scratch file for frames between stages: ") +
+                                        (n < 0 ? std::strerror(errno) : "unexpected end of file") +
+                                        " (set TMPDIR to a disk with room)");
+        data += n;
+        bytes -= static_cast<size_t>(n);
+        offset += n;
+    }
+}
+
+}  // namespace
+
+ScratchFrames::ScratchFrames(const Shape& shape, const Sequence& attributes)
+    : shape_(shape), attributes_(Shape{shape.frames, 1, 1, shape.channels}) {
+    attributes_.copy_attributes_from(attributes);
+    const char* dir = std::getenv("TMPDIR");
+    std::string path = std::string(dir && *dir ? dir : "/tmp") + "/statfilter-scratch-XXXXXX";
+    std::vector<char> name(path.begin(), path.end());
+    name.push_back('\0');
+    fd_ = ::mkstemp(name.data());
+    if (fd_ < 0) throw Error(Status::Io, "cannot create a scratch file in '" + path.substr(0, path.rfind('/')) + "': " + std::strerror(errno));
+    ::unlink(name.data());  // gone with the descriptor, whatever happens to the process
+}
+
+ScratchFrames::~ScratchFrames() {
+    if (fd_ >= 0) ::close(fd_);
+}
+
+void ScratchFrames::read_rows(int64_t f, int64_t y0, int64_t y1, float* dst) const {
+    const int64_t row = shape_.width * shape_.channels * static_cast<int64_t>(sizeof(float));
+    transfer(fd_, reinterpret_cast<char*>(dst), static_cast<size_t>((y1 - y0) * row),
+             static_cast<off_t>((f * shape_.height + y0) * row), false);
+}
+
+void ScratchFrames::write_frame(int64_t f, const float* pixels) {
+    const int64_t bytes = shape_.pixels() * shape_.channels * static_cast<int64_t>(sizeof(float));
+    transfer(fd_, reinterpret_cast<char*>(const_cast<float*>(pixels)), static_cast<size_t>(bytes),
+             static_cast<off_t>(f * bytes), true);
+}
+
+}  // namespace statfilter

@@ -1,0 +1,31 @@
+// Frames parked on disk between two stages that read them in different orders (a per-frame
+// prefilter writes frames; the temporal passes read bands of every frame). An unlinked file in
+// $TMPDIR (else /tmp): nothing is left behind, even when the process is killed.
+#pragma once
+#include <memory>
+
+#include "pipeline/frame_source.hpp"
+
+namespace statfilter {
+
+class ScratchFrames final : public FrameSource {
+public:
+    // Frames of `shape` with the attributes (names, frame numbers, metadata) of `attributes`.
+    ScratchFrames(const Shape& shape, const Sequence& attributes);
+    ~ScratchFrames() override;
+    ScratchFrames(const ScratchFrames&) = delete;
+    ScratchFrames& operator=(const ScratchFrames&) = delete;
+
+    const Shape& shape() const override { return shape_; }
+    const Sequence& attributes() const override { return attributes_; }
+    void read_rows(int64_t f, int64_t y0, int64_t y1, float* dst) const override;
+    // Frame index f, contiguous (row, pixel, channel). Safe from several threads for different frames.
+    void write_frame(int64_t f, const float* pixels);
+
+private:
+    Shape shape_;
+    Sequence attributes_;
+    int fd_ = -1;
+};
+
+}  // namespace statfilter
