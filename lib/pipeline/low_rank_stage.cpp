@@ -256,6 +256,7 @@ void LowRankStage::run(const FrameSource& source, const FrameConsumer& consume, 
         consume(t, frame.data());
     }, {progress, 0.7, 0.3, "reconstruct"});
 
+    results.set("bands", static_cast<double>(bands));  // bands of scanlines of the statistics pass
     if (options_.per_pixel) {
         auto rank_map = std::make_shared<Sequence>(Shape{1, s.height, s.width, static_cast<int64_t>(models.size())});
         double rank_sum = 0;
