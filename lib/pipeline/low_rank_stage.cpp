@@ -107,7 +107,7 @@ double LowRankStage::fixed_bytes(const Shape& s, int64_t rank, int threads) cons
 }
 
 double LowRankStage::min_bytes(const Shape& s, int threads) const {
-    const int64_t rank = options_.per_pixel ? options_.max_rank : 1;
+    const int64_t rank = options_.per_pixel ? options_.max_rank : options_.known_rank;
     return fixed_bytes(s, std::min<int64_t>(rank, std::max<int64_t>(s.frames - 1, 0)), threads) + band_row_bytes(s);
 }
 
@@ -125,7 +125,7 @@ void LowRankStage::run(const FrameSource& source, const FrameConsumer& consume, 
     }
     // Band height: the whole shot when it is in memory, else as many rows as the budget leaves.
     const bool whole = source.in_memory() != nullptr;
-    const int64_t bound_rank = options_.per_pixel ? options_.max_rank : 1;
+    const int64_t bound_rank = options_.per_pixel ? options_.max_rank : options_.known_rank;
     const double fixed = fixed_bytes(s, std::min<int64_t>(bound_rank, std::max<int64_t>(F - 1, 0)), ctx.threads);
     const auto fit_rows = static_cast<int64_t>((ctx.budget_bytes - fixed) / band_row_bytes(s));
     const int64_t rows = whole ? s.height : std::max<int64_t>(1, std::min(s.height, fit_rows));
@@ -306,6 +306,8 @@ LowRankOptions low_rank_options(const ParamSet& params, bool per_pixel) {
             return choose_rank(rank_params, ev, series, frames);
         };
         o.report_noise = params.get_string("rank") == "auto";
+        int64_t fixed = 0;
+        if (params.get_integer_choice("rank", fixed)) o.known_rank = fixed;
     }
     return o;
 }

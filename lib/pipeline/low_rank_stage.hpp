@@ -27,6 +27,7 @@ struct LowRankOptions {
     // Global rank: from the basis' eigenvalues, the series count and the frame count.
     std::function<RankChoice(const std::vector<double>&, int64_t, int64_t)> rank;
     bool report_noise = false;  // rank=auto: report the estimated noise sigma
+    int64_t known_rank = 1;     // the rank when it is fixed; else 1, the least (memory is checked again once known)
     // Per-pixel ranks (the error threshold method) instead of one global rank.
     bool per_pixel = false;
     int64_t max_rank = 8;

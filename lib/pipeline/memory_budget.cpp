@@ -56,12 +56,14 @@ int64_t default_memory_budget() { return physical_memory_bytes() / 2; }
 void check_memory_budget(double needed, double budget, const std::string& what) {
     if (needed <= budget) return;
     // Round the smallest workable budget up to a size a user can type.
-    const double mib = std::ceil(needed / (1024.0 * 1024.0));
+    const bool small = needed < 1024.0 * 1024.0;
+    const double unit = small ? 1024.0 : 1024.0 * 1024.0;
+    const double count = std::ceil(needed / unit);
     char suggestion[32];
-    std::snprintf(suggestion, sizeof suggestion, "%.0fM", mib);
+    std::snprintf(suggestion, sizeof suggestion, small ? "%.0fK" : "%.0fM", count);
     throw Error(Status::OutOfMemory, what + " needs " + format_bytes(needed) + " but the memory budget is " +
                                          format_bytes(budget) + ": give at least --memory " + suggestion +
-                                         " (memory parameter " + std::to_string(static_cast<int64_t>(mib * 1024 * 1024)) +
+                                         " (memory parameter " + std::to_string(static_cast<int64_t>(count * unit)) +
                                          " bytes)");
 }
 
