@@ -1,0 +1,47 @@
+"""denoise/copy --memory, --threads, --overwrite: the scheduler's options on the command line."""
+import json
+
+from conftest import run
+
+
+def test_memory_too_small_is_refused_before_any_work_naming_a_size(small_sequence, tmp_path):
+    out = tmp_path / "o.####.exr"
+    proc = run("denoise", small_sequence / "noisy.####.exr", out, "--method", "pca", "--memory", "64K", check_rc=1)
+    assert "--memory" in proc.stderr and "needs" in proc.stderr
+    assert "basis" not in proc.stderr  # no progress line: refused before the first pass
+    assert not list(tmp_path.glob("o.*.exr"))
+    size = proc.stderr.split("give at least --memory ")[1].split()[0]
+    run("denoise", small_sequence / "noisy.####.exr", out, "--method", "pca", "--memory", size, "--quiet")
+    assert len(list(tmp_path.glob("o.*.exr"))) == 4
+
+
+def test_threads_do_not_change_the_answer(small_sequence, tmp_path):
+    outs = []
+    for threads in ("1", "2"):
+        out = tmp_path / f"t{threads}.####.exr"
+        run("denoise", small_sequence / "noisy.####.exr", out, "--method", "error-threshold", "--threads", threads,
+            "--float", "--quiet")
+        outs.append(out)
+    proc = run("compare", outs[0], outs[1], "--json")
+    assert json.loads(proc.stdout)["rel_mse"] == 0
+
+
+def test_bad_run_options_are_usage_errors(small_sequence, tmp_path):
+    for args in (("--memory", "lots"), ("--threads", "-2"), ("--threads", "two")):
+        proc = run("denoise", small_sequence / "noisy.####.exr", tmp_path / "o.####.exr", *args, check_rc=2)
+        assert args[0] in proc.stderr
+
+
+def test_output_over_the_input_needs_overwrite(small_sequence, tmp_path):
+    pattern = small_sequence / "noisy.####.exr"
+    before = (small_sequence / "noisy.0001.exr").read_bytes()
+    proc = run("denoise", pattern, pattern, "--method", "pca", check_rc=1)
+    assert "overwrite" in proc.stderr
+    assert (small_sequence / "noisy.0001.exr").read_bytes() == before
+    run("denoise", pattern, pattern, "--method", "pca", "--overwrite", "--quiet")
+    assert (small_sequence / "noisy.0001.exr").read_bytes() != before
+
+
+def test_missing_output_directory_is_created(small_sequence, tmp_path):
+    run("copy", small_sequence / "noisy.####.exr", tmp_path / "new" / "dir" / "c.####.exr", "--quiet")
+    assert len(list((tmp_path / "new" / "dir").glob("c.*.exr"))) == 4
