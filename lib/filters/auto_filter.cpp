@@ -29,6 +29,7 @@
 #include "filters/frame_stages.hpp"
 #include "filters/motion_analysis.hpp"
 #include "filters/temporal_params.hpp"
+#include "pipeline/low_rank_stage.hpp"
 #include "statfilter/filter_registry.hpp"
 
 namespace statfilter {
@@ -84,6 +85,37 @@ Choice choose(const std::string& quality, double moving, bool still, bool passes
     return c;
 }
 
+Choice fast_choice() {
+    Choice c;
+    c.method = "pca";
+    c.reason = "quality fast: global PCA, the cheapest filter; it may ghost where things move";
+    return c;
+}
+
+// The streamed form of a preset: the stage, then what the preset picked and why, as auto reports it.
+class AnnotatedStage final : public StreamStage {
+public:
+    AnnotatedStage(std::unique_ptr<StreamStage> inner, Choice choice, std::string transform)
+        : inner_(std::move(inner)), choice_(std::move(choice)), transform_(std::move(transform)) {}
+    Footprint footprint() const override { return inner_->footprint(); }
+    double min_bytes(const Shape& shape, int threads) const override { return inner_->min_bytes(shape, threads); }
+    void run(const FrameSource& source, const FrameConsumer& consume, const StageContext& context,
+             Results& results) override {
+        Results own;
+        inner_->run(source, consume, context, own);
+        results.set("method", choice_.method);
+        results.set("reason", choice_.reason);
+        results.set("quality", "fast");
+        results.set("transform", transform_);
+        add_stage_results(choice_.method, own, results);
+    }
+
+private:
+    std::unique_ptr<StreamStage> inner_;
+    Choice choice_;
+    std::string transform_;
+};
+
 class AutoFilter final : public Filter {
 public:
     AutoFilter() : Filter(make_params()) {}
@@ -109,6 +141,28 @@ public:
         return p;
     }
 
+    // quality fast needs no analysis: it is global PCA, which streams. The other qualities measure the
+    // motion first and run on the shot in memory (docs/architecture.md, "What streams").
+    std::unique_ptr<StreamStage> stream_stage() const override {
+        if (params().get_string("quality") != "fast") return nullptr;
+        ParamSet pca = create_filter("pca")->params();
+        for (const char* name : {"nonfinite", "shared_basis", "memory_mb"}) pca.set_string(name, params().get_string(name));
+        pca.set_string("transform", fast_transform());
+        return std::make_unique<AnnotatedStage>(std::make_unique<LowRankStage>(low_rank_options(pca, false)), fast_choice(),
+                                                fast_transform());
+    }
+    Footprint footprint() const override {
+        auto stage = stream_stage();
+        return stage ? stage->footprint() : Footprint{};
+    }
+
+private:
+    // The transform of quality fast: none (raw values measured best for global PCA), unless named.
+    std::string fast_transform() const {
+        const std::string& t = params().get_string("transform");
+        return t == "preset" ? "none" : t;
+    }
+
 protected:
     void run(const Sequence& input, Sequence& output, const Progress& progress) override {
         const std::string quality = params().get_string("quality");
@@ -116,12 +170,11 @@ protected:
         std::shared_ptr<Sequence> alpha;
         // The transform: the preset's unless the user named one.
         std::string transform = params().get_string("transform");
-        if (transform == "preset") transform = quality == "fast" ? "none" : "log";
+        if (transform == "preset") transform = quality == "fast" ? fast_transform() : "log";
         ParamSet resolved = params();
         resolved.set_string("transform", transform);
         if (quality == "fast") {
-            choice.method = "pca";
-            choice.reason = "quality fast: global PCA, the cheapest filter; it may ghost where things move";
+            choice = fast_choice();
         } else {
             // OIDN only when the user has not named a prefilter of their own (Filter::execute ran it).
             const bool want_oidn = quality == "high" && params().get_string("prefilter").empty();

@@ -95,6 +95,7 @@ const std::vector<std::pair<std::string, std::vector<std::pair<std::string, std:
     {"pca", {{"rank", "2"}, {"shared_basis", "0"}}},
     {"pca", {{"rank", "2"}, {"postfilter", "diffusion"}, {"postfilter_params", "iterations=3,k=3"}}},
     {"pca", {{"rank", "2"}, {"prefilter", "diffusion"}, {"prefilter_params", "iterations=2"}}},
+    {"auto", {{"quality", "fast"}}},
     {"error-threshold", {}},
     {"error-threshold", {{"postfilter", "diffusion"}, {"postfilter_params", "iterations=3,k=3"}}},
 };
@@ -117,6 +118,16 @@ TEST(Streaming, StreamedEqualsInMemoryAtABudgetThatForcesManyBands) {
         const RunResult r = run_files(name, params, shot.in, out, static_cast<int64_t>(probe.needed + 2 * row + 4 * component));
         ASSERT_EQ(r.status, SF_OK) << what << ": " << r.message;
         if (name == "pca" || name == "error-threshold") EXPECT_GE(r.bands, 4) << what;
+        if (name == "auto") {
+            const char* method = nullptr;
+            Filt f = make_filter(name, params);  // the streamed run reports what the preset picked
+            sf_run_options run;
+            sf_run_options_init(&run);
+            const sf_write_options w = write_options();
+            ASSERT_SF_OK(sf_filter_run(f.get(), shot.in.c_str(), nullptr, shot.dir.file("auto.####.exr").c_str(), &w, &run));
+            ASSERT_SF_OK(sf_filter_result_string(f.get(), "method", &method));
+            EXPECT_STREQ(method, "pca");
+        }
         Seq result = read_sequence(out);
         ASSERT_TRUE(result) << what;
         // Bit-identical where the arithmetic is the same (frame by frame); the Gram summed band by
