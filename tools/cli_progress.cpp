@@ -1,10 +1,31 @@
 #include "cli_progress.hpp"
 
+#include <signal.h>
 #include <unistd.h>
 
+#include <csignal>
 #include <cstdio>
 
 namespace statfilter_cli {
+
+namespace {
+
+volatile std::sig_atomic_t g_signal = 0;
+
+void on_signal(int signal) { g_signal = signal; }
+
+}  // namespace
+
+void install_interrupt_handlers() {
+    struct sigaction action {};
+    action.sa_handler = &on_signal;
+    action.sa_flags = SA_RESETHAND;  // the second signal takes the default action: the process ends
+    sigemptyset(&action.sa_mask);
+    sigaction(SIGINT, &action, nullptr);
+    sigaction(SIGTERM, &action, nullptr);
+}
+
+int interrupted_by() { return g_signal; }
 
 ProgressLine::ProgressLine(bool quiet) : quiet_(quiet), tty_(::isatty(STDERR_FILENO) != 0) {}
 
@@ -12,7 +33,7 @@ ProgressLine::~ProgressLine() { finish(); }
 
 int ProgressLine::callback(void* user, double fraction, const char* stage) {
     static_cast<ProgressLine*>(user)->show(fraction, stage);
-    return 0;
+    return g_signal != 0 ? 1 : 0;
 }
 
 void ProgressLine::show(double fraction, const char* stage) {

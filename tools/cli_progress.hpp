@@ -4,11 +4,17 @@
 
 namespace statfilter_cli {
 
+// SIGINT and SIGTERM stop the work at the next progress report (the library then removes its
+// temporary files and leaves the output as it was); a second signal ends the process at once.
+void install_interrupt_handlers();
+// The signal that interrupted the run, or 0.
+int interrupted_by();
+
 class ProgressLine {
 public:
     explicit ProgressLine(bool quiet);
     ~ProgressLine();
-    // Matches sf_progress_callback: user is the ProgressLine.
+    // Matches sf_progress_callback: user is the ProgressLine. Asks to cancel once interrupted.
     static int callback(void* user, double fraction, const char* stage);
     void finish();
 

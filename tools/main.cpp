@@ -38,6 +38,7 @@ int main(int argc, char** argv) {
         return argc < 2 ? 2 : 0;
     }
     const std::string command = argv[1];
+    install_interrupt_handlers();
     try {
         if (command == "info") return cmd_info(argc, argv);
         if (command == "copy") return cmd_copy(argc, argv);
@@ -56,6 +57,11 @@ int main(int argc, char** argv) {
         std::fprintf(stderr, "statfilter %s: %s\n", command.c_str(), e.what());
         return 2;
     } catch (const Failure& e) {
+        if (const int signal = interrupted_by()) {
+            std::fprintf(stderr, "statfilter %s: interrupted by signal %d; the output was left as it was\n",
+                         command.c_str(), signal);
+            return 128 + signal;
+        }
         std::fprintf(stderr, "statfilter %s: error: %s\n", command.c_str(), e.what());
         return 1;
     } catch (const std::exception& e) {

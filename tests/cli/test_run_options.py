@@ -45,3 +45,22 @@ def test_output_over_the_input_needs_overwrite(small_sequence, tmp_path):
 def test_missing_output_directory_is_created(small_sequence, tmp_path):
     run("copy", small_sequence / "noisy.####.exr", tmp_path / "new" / "dir" / "c.####.exr", "--quiet")
     assert len(list((tmp_path / "new" / "dir").glob("c.*.exr"))) == 4
+
+
+def test_sigterm_stops_the_run_and_leaves_no_file(sample_noisy, tmp_path):
+    import signal
+    import subprocess
+
+    from conftest import CLI
+    out = tmp_path / "o.####.exr"
+    # A slow prefilter, so the run is still going when the signal comes.
+    proc = subprocess.Popen([CLI, "denoise", str(sample_noisy), str(out), "--method", "pca", "--prefilter", "diffusion",
+                             "--prefilter_params", "iterations=400", "--threads", "1"],
+                            stderr=subprocess.PIPE, text=True)
+    first = proc.stderr.readline()  # the first progress line: the work has started
+    assert first.startswith("statfilter:"), first
+    proc.send_signal(signal.SIGTERM)
+    rest = proc.stderr.read()
+    assert proc.wait(timeout=120) == 128 + signal.SIGTERM, first + rest
+    assert "interrupted" in rest
+    assert list(tmp_path.iterdir()) == []  # no frame, no temporary file, no lock
