@@ -2,6 +2,7 @@
 #include <cstring>
 
 #include "api_guard.hpp"
+#include "options.hpp"
 #include "statfilter/crop_windows.hpp"
 #include "statfilter/rerender_merge.hpp"
 
@@ -49,14 +50,7 @@ sf_status sf_merge(sf_sequence denoised, sf_sequence rerender, const sf_merge_op
                    int64_t* replaced) {
     return guarded([&] {
         if (replaced) *replaced = 0;
-        sf_merge_options o;
-        sf_merge_options_init(&o);
-        if (options) {
-            if (options->struct_size < sizeof(size_t) || options->struct_size > sizeof(sf_merge_options))
-                throw Error(Status::InvalidArgument, "options.struct_size " + std::to_string(options->struct_size) +
-                                                         " is not a size this library knows (call sf_merge_options_init)");
-            std::memcpy(&o, options, options->struct_size);
-        }
+        const sf_merge_options o = read_versioned(options, sf_merge_options_init);
         const Sequence& d = require_sequence(denoised, "denoised");
         const Sequence& r = require_sequence(rerender, "rerender");
         Sequence& out = require_sequence(output, "output");

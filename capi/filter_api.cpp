@@ -2,6 +2,7 @@
 #include <cstring>
 
 #include "api_guard.hpp"
+#include "options.hpp"
 #include "statfilter/filter_registry.hpp"
 
 using namespace statfilter;
@@ -108,15 +109,12 @@ sf_status sf_filter_param_count(sf_filter filter, int* count) {
 
 sf_status sf_filter_param_info(sf_filter filter, int index, sf_param_info* info) {
     return on_filter(filter, [&](sf_filter_s& f) {
-        sf_param_info& out = require(info, "info");
-        if (out.struct_size < sizeof(size_t) || out.struct_size > sizeof(sf_param_info))
-            throw Error(Status::InvalidArgument, "info.struct_size must be sizeof(sf_param_info)");
+        sf_param_info& out = require_versioned_out(info, "info");
         const auto& specs = f.filter->params().specs();
         if (index < 0 || static_cast<size_t>(index) >= specs.size())
             throw Error(Status::InvalidArgument, "parameter index " + std::to_string(index) + " out of range");
         const ParamSpec& s = specs[static_cast<size_t>(index)];
         sf_param_info full;
-        full.struct_size = out.struct_size;
         full.name = s.name.c_str();
         full.type = static_cast<sf_param_type>(s.type);
         full.default_value = s.default_value.c_str();
@@ -124,7 +122,7 @@ sf_status sf_filter_param_info(sf_filter filter, int index, sf_param_info* info)
         full.min = s.min;
         full.max = s.max;
         full.choices = s.choices_text.c_str();  // owned by the filter, like the other strings
-        std::memcpy(&out, &full, out.struct_size);
+        write_versioned(out, full);
     });
 }
 

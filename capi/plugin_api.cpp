@@ -2,6 +2,7 @@
 #include <cstring>
 
 #include "api_guard.hpp"
+#include "options.hpp"
 #include "statfilter/filter_registry.hpp"
 
 using namespace statfilter;
@@ -10,12 +11,9 @@ using namespace statfilter::capi;
 namespace {
 
 void fill(const FilterEntry& e, sf_filter_info* info) {
-    sf_filter_info& out = require(info, "info");
-    if (out.struct_size < sizeof(size_t) || out.struct_size > sizeof(sf_filter_info))
-        throw Error(Status::InvalidArgument, "info.struct_size must be sizeof(sf_filter_info) (sf_filter_info_init)");
+    sf_filter_info& out = require_versioned_out(info, "info");
     static const std::string builtin = "built-in";
     sf_filter_info full;
-    full.struct_size = out.struct_size;
     full.name = e.name.c_str();  // entries, and so their strings, live until exit
     full.description = e.description.c_str();
     full.kind = static_cast<sf_filter_kind>(e.kind);
@@ -23,7 +21,7 @@ void fill(const FilterEntry& e, sf_filter_info* info) {
     full.version = e.origin.empty() ? sf_version_string() : e.version.c_str();
     full.available = e.available() ? 1 : 0;
     full.problem = e.problem.c_str();
-    std::memcpy(&out, &full, out.struct_size);
+    write_versioned(out, full);
 }
 
 }  // namespace

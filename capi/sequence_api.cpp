@@ -2,6 +2,7 @@
 #include <cstring>
 
 #include "api_guard.hpp"
+#include "options.hpp"
 #include "statfilter/metrics.hpp"
 
 using namespace statfilter;
@@ -129,13 +130,10 @@ void sf_comparison_init(sf_comparison* comparison) {
 
 sf_status sf_sequence_compare(sf_sequence test, sf_sequence reference, sf_comparison* out) {
     return guarded([&] {
-        sf_comparison& dst = require(out, "out");
-        if (dst.struct_size < sizeof(size_t) || dst.struct_size > sizeof(sf_comparison))
-            throw Error(Status::InvalidArgument, "out.struct_size must be set (sf_comparison_init)");
+        sf_comparison& dst = require_versioned_out(out, "out");
         const Comparison c = compare_sequences(require_sequence(test, "test"), require_sequence(reference, "reference"));
-        sf_comparison full{dst.struct_size, c.rel_mse, c.rel_mse_moving, c.rel_mse_static, c.moving_fraction,
-                           c.psnr, c.flicker, c.jitter};
-        std::memcpy(&dst, &full, dst.struct_size);
+        write_versioned(dst, sf_comparison{0, c.rel_mse, c.rel_mse_moving, c.rel_mse_static, c.moving_fraction,
+                                           c.psnr, c.flicker, c.jitter});
     });
 }
 
