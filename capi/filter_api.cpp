@@ -175,6 +175,22 @@ sf_status sf_filter_set_progress(sf_filter filter, sf_progress_callback callback
     });
 }
 
+sf_status sf_filter_image_result_count(sf_filter filter, int* count) {
+    return on_filter(filter, [&](sf_filter_s& f) {
+        require(count, "count") = static_cast<int>(f.filter->image_results().size());
+    });
+}
+
+sf_status sf_filter_image_result_name(sf_filter filter, int index, const char** name) {
+    return on_filter(filter, [&](sf_filter_s& f) {
+        const auto& names = f.filter->image_results();
+        require(name, "name") = nullptr;
+        if (index < 0 || static_cast<size_t>(index) >= names.size())
+            throw Error(Status::InvalidArgument, "image result index " + std::to_string(index) + " out of range");
+        *name = names[static_cast<size_t>(index)].c_str();
+    });
+}
+
 sf_status sf_filter_execute(sf_filter filter, sf_sequence input, sf_sequence output) {
     return on_filter(filter, [&](sf_filter_s& f) {
         Sequence& in = require_sequence(input, "input");

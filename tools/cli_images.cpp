@@ -75,6 +75,25 @@ std::vector<std::pair<std::string, std::string>> parse_save_list(const std::stri
     return out;
 }
 
+void check_save_list(const FilterHandle& filter, const std::string& method,
+                     const std::vector<std::pair<std::string, std::string>>& list) {
+    int count = 0;
+    filter.check(sf_filter_image_result_count(filter.get(), &count));
+    std::vector<std::string> names;
+    for (int i = 0; i < count; ++i) {
+        const char* name = nullptr;
+        filter.check(sf_filter_image_result_name(filter.get(), i, &name));
+        names.emplace_back(name);
+    }
+    for (const auto& [name, pattern] : list) {
+        if (std::find(names.begin(), names.end(), name) != names.end()) continue;
+        std::string known;
+        for (const auto& n : names) known += (known.empty() ? "" : ", ") + n;
+        throw UsageError("--save " + name + "=...: method " + method + " has no image result '" + name + "' (" +
+                         (known.empty() ? "it has none" : "it has: " + known) + ")");
+    }
+}
+
 void save_image_results(const FilterHandle& filter, const std::vector<std::pair<std::string, std::string>>& list,
                         ProgressLine& progress) {
     for (const auto& [name, pattern] : list) save_image_result(filter, name, pattern, progress);

@@ -15,6 +15,10 @@ void save_image_result(const FilterHandle& filter, const std::string& name, cons
 // "a=x.exr,b=y.####.exr" -> (name, pattern) pairs; a UsageError for anything else.
 std::vector<std::pair<std::string, std::string>> parse_save_list(const std::string& list);
 
+// Throws UsageError unless the filter can produce every image result the list names (before any work).
+void check_save_list(const FilterHandle& filter, const std::string& method,
+                     const std::vector<std::pair<std::string, std::string>>& list);
+
 // Writes each named image result of the list.
 void save_image_results(const FilterHandle& filter, const std::vector<std::pair<std::string, std::string>>& list,
                         ProgressLine& progress);

@@ -71,6 +71,7 @@ int run_filter(const Args& args, const std::string& method) {
     // Every --name VALUE that is not a common option is a parameter of the filter.
     for (const auto& [name, value] : args.extras())
         filter.check(sf_filter_set_string(filter.get(), dashes_to_underscores(name).c_str(), value.c_str()));
+    check_save_list(filter, method, saves);
 
     const auto start = std::chrono::steady_clock::now();
     ProgressLine progress(args.flag("quiet"));

@@ -118,7 +118,7 @@ private:
 
 class AutoFilter final : public Filter {
 public:
-    AutoFilter() : Filter(make_params()) {}
+    AutoFilter() : Filter(make_params()) { declare_image_result("alpha"); }
 
     static std::vector<ParamSpec> make_params() {
         std::vector<ParamSpec> p = {

@@ -11,7 +11,10 @@ namespace {
 
 class DetectFilter final : public Filter {
 public:
-    DetectFilter() : Filter(make_params()) { accept_input("noisy"); }
+    DetectFilter() : Filter(make_params()) {
+        accept_input("noisy");
+        for (const char* image : {"mask", "score", "degree_map"}) declare_image_result(image);
+    }
 
     static std::vector<ParamSpec> make_params() {
         return {

@@ -13,7 +13,7 @@ namespace {
 
 class ErrorThresholdFilter final : public Filter {
 public:
-    ErrorThresholdFilter() : Filter(make_params()) {}
+    ErrorThresholdFilter() : Filter(make_params()) { declare_image_result("rank_map"); }
 
     static std::vector<ParamSpec> make_params() {
         std::vector<ParamSpec> p = {

@@ -36,7 +36,10 @@ void pass_common(const ParamSet& from, Filter& to) {
 
 class HybridFilter final : public Filter {
 public:
-    HybridFilter() : Filter(make_params()) {}
+    HybridFilter() : Filter(make_params()) {
+        declare_image_result("alpha");
+        declare_image_result("beta");
+    }
 
     static std::vector<ParamSpec> make_params() {
         std::vector<ParamSpec> p = {

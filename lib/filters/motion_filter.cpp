@@ -17,7 +17,10 @@ double mean_of(const Sequence& s) {
 
 class MotionFilter final : public Filter {
 public:
-    MotionFilter() : Filter(make_params()) {}
+    MotionFilter() : Filter(make_params()) {
+        declare_image_result("alpha");
+        declare_image_result("beta");
+    }
 
     static std::vector<ParamSpec> make_params() {
         std::vector<ParamSpec> p = motion_params();

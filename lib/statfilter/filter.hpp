@@ -61,8 +61,13 @@ public:
         return it == inputs_.end() ? nullptr : it->second;
     }
 
+    // The image results the filter can produce (e.g. rank_map), so a request to save one can be checked
+    // before any work.
+    const std::vector<std::string>& image_results() const { return image_results_; }
+
 protected:
     void accept_input(const std::string& name) { inputs_.emplace(name, nullptr); }
+    void declare_image_result(const std::string& name) { image_results_.push_back(name); }
     virtual void run(const Sequence& input, Sequence& output, const Progress& progress) = 0;
     Results& mutable_results() { return results_; }
 
@@ -70,6 +75,7 @@ private:
     ParamSet params_;
     Results results_;
     std::map<std::string, const Sequence*> inputs_;
+    std::vector<std::string> image_results_;
 };
 
 }  // namespace statfilter

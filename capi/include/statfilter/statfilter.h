@@ -256,6 +256,11 @@ SF_API sf_status sf_filter_result_string(sf_filter filter, const char* name, con
  * (sf_filter_result_string) reads "image" and its shape. */
 SF_API sf_status sf_filter_result_sequence(sf_filter filter, const char* name, sf_sequence* out);
 
+/* The names of the image results the filter can produce (e.g. "rank_map"), known before it runs, so
+ * a request for one can be checked before any work; index 0 .. count - 1. */
+SF_API sf_status sf_filter_image_result_count(sf_filter filter, int* count);
+SF_API sf_status sf_filter_image_result_name(sf_filter filter, int index, const char** name);
+
 SF_API sf_status sf_filter_set_progress(sf_filter filter, sf_progress_callback callback, void* user);
 
 /* Run the filter: read input, write output. The output must have the input's shape (it may
