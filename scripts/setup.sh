@@ -7,6 +7,7 @@ APT_PACKAGES=(
   build-essential cmake ninja-build pkg-config
   libopencv-dev libopenimageio-dev openimageio-tools libopenexr-dev libopencolorio-dev
   liblapacke-dev libopenblas-dev libgtest-dev abigail-tools
+  python3-venv  # scripts/test_wheel.sh: the wheel tested in a fresh venv
   time  # /usr/bin/time: peak memory in bench/
 )
 PY_PACKAGES=(numpy pytest)  # and pyoidn, below
