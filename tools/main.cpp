@@ -26,8 +26,9 @@ const char* const kUsage =
     "  plugins             every filter, built-in or plugin: kind, version, origin, parameters\n"
     "  version             print the library version\n"
     "\n"
-    "Patterns follow oiiotool: beauty.####.exr, beauty.#.exr (4 digits), beauty.@@.exr,\n"
-    "beauty.%04d.exr. Run 'statfilter COMMAND --help' for a command's options.\n";
+    "Frame patterns: one # or @ per digit as in Nuke and Houdini (beauty.####.exr is beauty.0001.exr,\n"
+    "beauty.@@.exr is beauty.01.exr; a lone # is 4 digits), or beauty.%04d.exr. Not oiiotool's\n"
+    "convention, where #### is 16 digits. Run 'statfilter COMMAND --help' for a command's options.\n";
 
 }  // namespace
 
