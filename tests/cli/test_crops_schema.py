@@ -21,11 +21,11 @@ def written(tmp_path_factory):
     d = tmp_path_factory.mktemp("crops")
     run("denoise", NOISY, d / "den.####.exr", "--frames", "1-12", "--method", "pca", "--rank", "1", "--float", "-q")
     proc = run("detect", d / "den.####.exr", "--noisy", NOISY, "--frames", "1-12", "--crops", d / "crops.json", "--json")
-    return (d / "crops.json").read_text(), proc.stdout
+    return (d / "crops.json").read_text(), proc.stdout, d
 
 
 def test_detect_writes_what_the_schema_describes(written):
-    text, _ = written
+    text = written[0]
     doc = json.loads(text)
     jsonschema.Draft202012Validator.check_schema(SCHEMA)
     jsonschema.validate(doc, SCHEMA, cls=jsonschema.Draft202012Validator)
@@ -75,9 +75,22 @@ def test_the_schema_refuses_what_merge_would_refuse(written):
 def test_library_and_cli_write_numbers_alike(written):
     """crops.json is written by the library (lib/json.cpp), --json by the CLI (tools/cli_json.hpp):
     the same double must come out as the same text."""
-    text, report = written
+    text, report = written[0], written[1]
 
     def raw(document, name):
         return re.search(r'"%s": ([-0-9.eE+]+)' % name, document).group(1)
     for name in ("flagged_fraction", "window_fraction"):
         assert raw(text, name) == raw(report, name), name
+
+
+def test_merge_refuses_an_unknown_schema_version_and_reads_the_former_version_member(written, tmp_path):
+    doc, d = json.loads(written[0]), written[2]
+    den = d / "den.####.exr"
+    crops = tmp_path / "crops.json"
+    crops.write_text(json.dumps(dict(doc, schema_version=2)))
+    proc = run("merge", den, den, tmp_path / "m.####.exr", "--crops", crops, check_rc=1)
+    assert "schema version 2 is not supported" in proc.stderr
+    # Files written before the member was named schema_version.
+    crops.write_text(json.dumps(dict({k: v for k, v in doc.items() if k != "schema_version"}, version=1)))
+    run("merge", den, den, tmp_path / "m.####.exr", "--crops", crops, "--frames", "1-12", "-q")
+    assert len(list(tmp_path.glob("m.*.exr"))) == 12
