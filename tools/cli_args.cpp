@@ -73,7 +73,8 @@ std::string unknown_option_message(const std::string& given, const std::set<std:
         const size_t d = edit_distance(dashes(given), dashes(name));
         if (d < best && d < name.size()) best = d, suggestion = name;
     }
-    if (!suggestion.empty()) message += " (did you mean --" + suggestion + "?)";
+    // Spelt with dashes, as options are (parameters take either).
+    if (!suggestion.empty()) message += " (did you mean --" + dashes(suggestion) + "?)";
     return message;
 }
 

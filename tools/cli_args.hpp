@@ -21,7 +21,7 @@ const std::set<std::string>& filter_parameter_names();
 std::set<std::string> filter_parameter_names(const std::string& filter);
 
 // "unknown option --rnak (did you mean --rank?)": the suggestion is the known name nearest to the
-// given one (edit distance, '-' and '_' alike), when it is near enough to be a typo.
+// given one (edit distance, '-' and '_' alike), when it is near enough to be a typo, spelt with dashes.
 std::string unknown_option_message(const std::string& given, const std::set<std::string>& known);
 
 class Args {

@@ -13,8 +13,9 @@ from conftest import run
     (["denoise", "in.####.exr", "out.####.exr", "--qaulity", "high"], "unknown option --qaulity (did you mean --quality?)"),
     (["denoise", "in.####.exr", "out.####.exr", "--framse", "1-4"], "unknown option --framse (did you mean --frames?)"),
     (["denoise", "in.####.exr", "out.####.exr", "--jsno"], "unknown option --jsno (did you mean --json?)"),
+    (["denoise", "in.####.exr", "out.####.exr", "--memory-mbb", "9"], "unknown option --memory-mbb (did you mean --memory-mb?)"),
     (["detect", "den.####.exr", "--thresold", "2"], "unknown option --thresold (did you mean --threshold?)"),
-    (["detect", "den.####.exr", "--crop-paddin", "2"], "unknown option --crop-paddin (did you mean --crop_padding?)"),
+    (["detect", "den.####.exr", "--crop-paddin", "2"], "unknown option --crop-paddin (did you mean --crop-padding?)"),
     # Nothing near: no suggestion.
     (["denoise", "in.####.exr", "out.####.exr", "--zzzzzzzz", "1"], "unknown option --zzzzzzzz\n"),
 ])

