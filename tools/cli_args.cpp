@@ -63,19 +63,22 @@ std::set<std::string> filter_parameter_names(const std::string& filter) {
     return out;
 }
 
-std::string unknown_option_message(const std::string& given, const std::set<std::string>& known) {
-    std::string message = "unknown option --" + given;
+std::string nearest_name(const std::string& given, const std::set<std::string>& known) {
     // Near enough to be a typo: one edit in a short name, two in a longer one, never the whole name.
     const size_t limit = given.size() <= 4 ? 1 : 2;
     size_t best = limit + 1;
-    std::string suggestion;
+    std::string nearest;
     for (const auto& name : known) {
         const size_t d = edit_distance(dashes(given), dashes(name));
-        if (d < best && d < name.size()) best = d, suggestion = name;
+        if (d < best && d < name.size()) best = d, nearest = name;
     }
+    return nearest;
+}
+
+std::string unknown_option_message(const std::string& given, const std::set<std::string>& known) {
+    const std::string suggestion = nearest_name(given, known);
     // Spelt with dashes, as options are (parameters take either).
-    if (!suggestion.empty()) message += " (did you mean --" + dashes(suggestion) + "?)";
-    return message;
+    return "unknown option --" + given + (suggestion.empty() ? "" : " (did you mean --" + dashes(suggestion) + "?)");
 }
 
 Args::Args(int argc, char** argv, int first, const std::set<std::string>& flags, const std::set<std::string>& options,

@@ -20,8 +20,10 @@ const std::set<std::string>& filter_parameter_names();
 // The parameter names of one filter.
 std::set<std::string> filter_parameter_names(const std::string& filter);
 
-// "unknown option --rnak (did you mean --rank?)": the suggestion is the known name nearest to the
-// given one (edit distance, '-' and '_' alike), when it is near enough to be a typo, spelt with dashes.
+// The known name nearest to the given one (edit distance, '-' and '_' alike) when it is near enough
+// to be a typo, else "".
+std::string nearest_name(const std::string& given, const std::set<std::string>& known);
+// "unknown option --rnak (did you mean --rank?)", the suggestion spelt with dashes.
 std::string unknown_option_message(const std::string& given, const std::set<std::string>& known);
 
 class Args {

@@ -60,6 +60,11 @@ def test_denoise_json_results_are_numbers(small_sequence, tmp_path):
         assert not (isinstance(value, str) and re.fullmatch(r"-?[0-9.]+(e[-+]?[0-9]+)?", value)), results
 
 
+def test_unknown_command_is_named_with_the_nearest():
+    assert "unknown command 'denoize' (did you mean denoise?)" in run("denoize", "a", "b", check_rc=2).stderr
+    assert "unknown command 'frobnicate'\n" in run("frobnicate", check_rc=2).stderr
+
+
 def test_help_documents_patterns_as_nuke_and_houdini():
     text = run("--help").stdout
     assert "Nuke and Houdini" in text and "follow oiiotool" not in text
