@@ -159,10 +159,30 @@ CropPlan make_crop_plan(const Sequence& mask, const CropOptions& options) {
     return plan;
 }
 
+namespace {
+
+// The schema this statfilter writes and reads (docs/crops.md, docs/crops.schema.json).
+constexpr int64_t kCropsSchemaVersion = 1;
+
+// "3-5,9": the frames that have windows, as --frames and render farms take them.
+std::string frame_ranges(const std::vector<FrameCrops>& frames) {
+    std::string out;
+    for (size_t i = 0; i < frames.size();) {
+        size_t j = i;
+        while (j + 1 < frames.size() && frames[j + 1].frame == frames[j].frame + 1) ++j;
+        out += (out.empty() ? "" : ",") + std::to_string(frames[i].frame);
+        if (j > i) out += "-" + std::to_string(frames[j].frame);
+        i = j + 1;
+    }
+    return out;
+}
+
+}  // namespace
+
 std::string crop_plan_to_json(const CropPlan& plan) {
     const double pixels = static_cast<double>(plan.width * plan.height * std::max<int64_t>(plan.frame_count, 1));
     std::string j = "{\n";
-    j += "  \"format\": \"statfilter-crops\",\n  \"version\": 1,\n";
+    j += "  \"format\": \"statfilter-crops\",\n  \"schema_version\": " + std::to_string(kCropsSchemaVersion) + ",\n";
     j += "  \"width\": " + std::to_string(plan.width) + ",\n  \"height\": " + std::to_string(plan.height) +
          ",\n  \"frame_count\": " + std::to_string(plan.frame_count) + ",\n";
     j += "  \"padding\": " + std::to_string(plan.options.padding) + ",\n  \"min_size\": " +
@@ -172,6 +192,7 @@ std::string crop_plan_to_json(const CropPlan& plan) {
     j += "  \"window_count\": " + std::to_string(plan.window_count()) + ",\n  \"window_pixels\": " +
          std::to_string(plan.window_pixels()) + ",\n  \"window_fraction\": " +
          json_number(static_cast<double>(plan.window_pixels()) / pixels) + ",\n";
+    j += "  \"render_frames\": " + json_quote(frame_ranges(plan.frames)) + ",\n";
     j += "  \"frames\": [";
     for (size_t i = 0; i < plan.frames.size(); ++i) {
         const FrameCrops& f = plan.frames[i];
@@ -235,8 +256,12 @@ CropPlan crop_plan_from_json(const std::string& text) {
     const JsonValue* format = root.find("format");
     if (!format || !format->is(JsonValue::Type::String) || format->string() != "statfilter-crops")
         bad("\"format\" must be \"statfilter-crops\" (is this a crop-window file written by statfilter detect?)");
-    const int64_t version = integer(root, "version", "the document", 1);
-    if (version != 1) bad("version " + std::to_string(version) + " is not supported (this statfilter reads version 1)");
+    // "version" is what files written before schema_version was named carry (the same schema 1).
+    const char* version_key = root.find("schema_version") || !root.find("version") ? "schema_version" : "version";
+    const int64_t version = integer(root, version_key, "the document", 1);
+    if (version != kCropsSchemaVersion)
+        bad("schema version " + std::to_string(version) + " is not supported (this statfilter reads version " +
+            std::to_string(kCropsSchemaVersion) + ")");
     CropPlan plan;
     plan.width = integer(root, "width", "the document", 1);
     plan.height = integer(root, "height", "the document", 1);

@@ -176,6 +176,7 @@ private:
 
 JsonValue parse_json(const std::string& text) { return JsonParser(text).document(); }
 
+// The same escapes as json_string in tools/cli_json.hpp (the CLI cannot link lib/).
 std::string json_quote(const std::string& text) {
     std::string out = "\"";
     for (unsigned char c : text) {
@@ -198,10 +199,15 @@ std::string json_quote(const std::string& text) {
     return out + "\"";
 }
 
+// The same format as json_number in tools/cli_json.hpp (the CLI's copy): the shortest of 15, 16 or
+// 17 significant digits that reads back as the same double.
 std::string json_number(double value) {
     if (!std::isfinite(value)) return "null";
     char buf[64];
-    std::snprintf(buf, sizeof buf, "%.10g", value);
+    for (int digits = 15; digits <= 17; ++digits) {
+        std::snprintf(buf, sizeof buf, "%.*g", digits, value);
+        if (std::strtod(buf, nullptr) == value) break;
+    }
     return buf;
 }
 

@@ -7,9 +7,10 @@ APT_PACKAGES=(
   build-essential cmake ninja-build pkg-config
   libopencv-dev libopenimageio-dev openimageio-tools libopenexr-dev libopencolorio-dev
   liblapacke-dev libopenblas-dev libgtest-dev abigail-tools
+  python3-venv  # scripts/test_wheel.sh: the wheel tested in a fresh venv
   time  # /usr/bin/time: peak memory in bench/
 )
-PY_PACKAGES=(numpy pytest)  # and pyoidn, below
+PY_PACKAGES=(numpy pytest jsonschema)  # and pyoidn, below; jsonschema: tests/cli/test_crops_schema.py
 
 missing=()
 for p in "${APT_PACKAGES[@]}"; do
@@ -28,7 +29,7 @@ PYTHON="${PYTHON:-python3}"
 pip_install() {
   "$PYTHON" -m pip install -q "$@" 2>/dev/null || "$PYTHON" -m pip install -q --break-system-packages "$@"
 }
-if ! "$PYTHON" -c "import numpy, pytest" 2>/dev/null; then
+if ! "$PYTHON" -c "import numpy, pytest, jsonschema" 2>/dev/null; then
   echo "setup: installing ${PY_PACKAGES[*]} for $PYTHON" >&2
   pip_install "${PY_PACKAGES[@]}"
 fi

@@ -102,7 +102,8 @@ void print_detect_parameters() {
 
 int cmd_detect(int argc, char** argv) {
     const Args args(argc, argv, 2, {"json", "quiet", "help"},
-                    merged({kInputOptions, {"noisy", "mask", "crops", "degree-map", "preview", "score"}}));
+                    merged({kInputOptions, {"noisy", "mask", "crops", "degree-map", "preview", "score"}}),
+                    filter_parameter_names("detect"));
     if (args.flag("help")) {
         std::printf(
             "usage: statfilter detect DENOISED --noisy NOISY [--mask M.####.exr] [--crops C.json] [options]\n\n"
@@ -157,17 +158,11 @@ int cmd_detect(int argc, char** argv) {
     filter.check(sf_filter_result_count(filter.get(), &count));
     std::vector<std::pair<std::string, std::string>> results;
     for (int i = 0; i < count; ++i) {
-        const char *name = nullptr, *value = nullptr;
+        const char* name = nullptr;
         filter.check(sf_filter_result_name(filter.get(), i, &name));
         const std::string n = name;
         if (n == "crops" || n == "mask" || n == "score" || n == "degree_map") continue;
-        double number = 0;
-        if (sf_filter_result_float(filter.get(), name, &number) == SF_OK) {
-            results.emplace_back(n, json_number(number));
-        } else {
-            filter.check(sf_filter_result_string(filter.get(), name, &value));
-            results.emplace_back(n, json_string(value));
-        }
+        results.emplace_back(n, json_filter_result(filter.get(), name));
     }
     auto number = [&](const char* name) {
         double v = 0;

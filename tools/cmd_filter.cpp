@@ -106,7 +106,7 @@ int run_filter(const Args& args, const std::string& method) {
                         std::to_string(shape.height) + ",\n  \"channels\": " + std::to_string(shape.channels) +
                         ",\n  \"seconds\": " + json_number(seconds) + ",\n  \"results\": {";
         for (size_t i = 0; i < results.size(); ++i)
-            j += (i ? ", " : "") + json_string(results[i].first) + ": " + json_string(results[i].second);
+            j += (i ? ", " : "") + json_string(results[i].first) + ": " + json_filter_result(filter.get(), results[i].first.c_str());
         j += "}\n}\n";
         std::fputs(j.c_str(), stdout);
     } else if (!args.flag("quiet")) {

@@ -51,7 +51,7 @@ std::vector<std::string> layers_of(const std::vector<std::string>& channels) {
 }  // namespace
 
 int cmd_info(int argc, char** argv) {
-    const Args args(argc, argv, 2, {"json", "quiet", "help"}, kInputOptions);
+    const Args args(argc, argv, 2, {"json", "quiet", "help"}, kInputOptions, {});
     if (args.flag("help")) {
         std::printf("%s\n%s", kHelp, kInputHelp);
         return 0;

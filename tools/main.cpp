@@ -2,6 +2,9 @@
 #include <cstdio>
 #include <cstring>
 #include <exception>
+#include <map>
+#include <set>
+#include <string>
 
 #include <statfilter/statfilter.h>
 
@@ -26,8 +29,14 @@ const char* const kUsage =
     "  plugins             every filter, built-in or plugin: kind, version, origin, parameters\n"
     "  version             print the library version\n"
     "\n"
-    "Patterns follow oiiotool: beauty.####.exr, beauty.#.exr (4 digits), beauty.@@.exr,\n"
-    "beauty.%04d.exr. Run 'statfilter COMMAND --help' for a command's options.\n";
+    "Frame patterns: one # or @ per digit as in Nuke and Houdini (beauty.####.exr is beauty.0001.exr,\n"
+    "beauty.@@.exr is beauty.01.exr; a lone # is 4 digits), or beauty.%04d.exr. Not oiiotool's\n"
+    "convention, where #### is 16 digits. Run 'statfilter COMMAND --help' for a command's options.\n";
+
+int print_version(int, char**) {
+    std::printf("statfilter %s\n", sf_version_string());
+    return 0;
+}
 
 }  // namespace
 
@@ -39,20 +48,18 @@ int main(int argc, char** argv) {
     }
     const std::string command = argv[1];
     install_interrupt_handlers();
+    const std::map<std::string, int (*)(int, char**)> commands = {
+        {"info", cmd_info},       {"copy", cmd_copy},     {"denoise", cmd_denoise}, {"compare", cmd_compare},
+        {"plugins", cmd_plugins}, {"motion", cmd_motion}, {"detect", cmd_detect},   {"merge", cmd_merge},
+        {"version", print_version}};
     try {
-        if (command == "info") return cmd_info(argc, argv);
-        if (command == "copy") return cmd_copy(argc, argv);
-        if (command == "denoise") return cmd_denoise(argc, argv);
-        if (command == "compare") return cmd_compare(argc, argv);
-        if (command == "plugins") return cmd_plugins(argc, argv);
-        if (command == "motion") return cmd_motion(argc, argv);
-        if (command == "detect") return cmd_detect(argc, argv);
-        if (command == "merge") return cmd_merge(argc, argv);
-        if (command == "version" || command == "--version") {
-            std::printf("statfilter %s\n", sf_version_string());
-            return 0;
-        }
-        throw UsageError("unknown command '" + command + "'");
+        if (command == "--version") return print_version(argc, argv);
+        const auto found = commands.find(command);
+        if (found != commands.end()) return found->second(argc, argv);
+        std::set<std::string> names;
+        for (const auto& [name, run] : commands) names.insert(name);
+        const std::string nearest = nearest_name(command, names);
+        throw UsageError("unknown command '" + command + "'" + (nearest.empty() ? "" : " (did you mean " + nearest + "?)"));
     } catch (const UsageError& e) {
         std::fprintf(stderr, "statfilter %s: %s\n", command.c_str(), e.what());
         return 2;

@@ -8,16 +8,22 @@ denoising, list them as crop windows for a renderer, and splice the re-rendered 
     final = sf.merge(denoised, rerendered, crops=found.crops, feather=2)
 """
 
+from __future__ import annotations
+
 import ctypes
 import json
 import os
+from typing import Any, Dict, List, Optional, Sequence, Union
 
 import numpy as np
 
 from . import _arrays, _capi
-from ._progress import ProgressAdapter
+from ._progress import ProgressAdapter, ProgressCallback
 from .errors import InvalidArgumentError, check, error_for
-from .filter import Filter
+from .filter import Filter, ParamValue, ResultValue
+
+#: A crop-window document: its JSON text, a path to it, or the parsed dict.
+Crops = Union[str, bytes, "os.PathLike[str]", Dict[str, Any]]
 
 
 class Detection:
@@ -32,7 +38,7 @@ class Detection:
     results:    every number the filter reported (flagged_fraction, window_fraction, delta, ...)
     """
 
-    def __init__(self, results):
+    def __init__(self, results: Dict[str, ResultValue]) -> None:
         self.results = {k: v for k, v in results.items() if not isinstance(v, np.ndarray) and k != "crops"}
         self.mask = results["mask"]
         self.score = results["score"]
@@ -41,16 +47,17 @@ class Detection:
         self.windows = crop_windows(self.crops)
 
     @property
-    def flagged_fraction(self):
+    def flagged_fraction(self) -> float:
         return self.results["flagged_fraction"]
 
-    def __repr__(self):
+    def __repr__(self) -> str:
         return "<statfilter.Detection: %.2f%% of pixel-frames flagged, %d windows covering %.2f%%>" % (
             100 * self.results["flagged_fraction"], int(self.results["window_count"]),
             100 * self.results["window_fraction"])
 
 
-def detect(denoised, noisy=None, progress=None, **params):
+def detect(denoised: np.ndarray, noisy: Optional[np.ndarray] = None, progress: Optional[ProgressCallback] = None,
+           **params: ParamValue) -> Detection:
     """Run the ``detect`` filter on a denoised sequence, with the noisy render it came from.
 
     denoised, noisy: arrays shaped (frames, height, width, channels). Without ``noisy`` the
@@ -64,7 +71,7 @@ def detect(denoised, noisy=None, progress=None, **params):
         return Detection(flt.results)
 
 
-def _crops_text(crops):
+def _crops_text(crops: Optional[Crops]) -> Optional[bytes]:
     if crops is None:
         return None
     if isinstance(crops, bytes):
@@ -77,7 +84,7 @@ def _crops_text(crops):
     return _capi.encode(crops)
 
 
-def crop_windows(crops):
+def crop_windows(crops: Crops) -> List[Dict[str, int]]:
     """The windows of a crop-window JSON document (text, a path, or the parsed dict) as a list of
     dicts with keys frame, index, x, y, width, height (row 0 at the top). Raises
     InvalidArgumentError naming the problem for a malformed document or a window outside the frame."""
@@ -90,7 +97,8 @@ def crop_windows(crops):
     return [{k: getattr(windows[i], k) for k in keys} for i in range(count.value)]
 
 
-def _frame_numbers(array, numbers, default, what):
+def _frame_numbers(array: np.ndarray, numbers: Optional[Sequence[int]], default: Sequence[int],
+                   what: str) -> List[int]:
     if numbers is None:
         if array.shape[0] != len(default):
             raise InvalidArgumentError(
@@ -103,8 +111,10 @@ def _frame_numbers(array, numbers, default, what):
     return numbers
 
 
-def merge(denoised, rerender, crops=None, mask=None, feather=0, frame_numbers=None, rerender_frame_numbers=None,
-          mask_frame_numbers=None, progress=None):
+def merge(denoised: np.ndarray, rerender: np.ndarray, crops: Optional[Crops] = None, mask: Optional[np.ndarray] = None,
+          feather: int = 0, frame_numbers: Optional[Sequence[int]] = None,
+          rerender_frame_numbers: Optional[Sequence[int]] = None, mask_frame_numbers: Optional[Sequence[int]] = None,
+          progress: Optional[ProgressCallback] = None) -> np.ndarray:
     """Splice re-rendered pixels into a denoised sequence; returns a new float32 array.
 
     denoised:  (frames, height, width, channels)

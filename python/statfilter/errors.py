@@ -17,6 +17,10 @@ SF_ERROR_INTERNAL (8)           InternalError          RuntimeError
 ==============================  =====================  ================
 """
 
+from __future__ import annotations
+
+from typing import Any, Optional, Tuple
+
 from . import _capi
 
 
@@ -24,9 +28,9 @@ class Error(Exception):
     """Base of every statfilter error. ``status`` is the C sf_status code, ``status_name`` its
     name (e.g. "SF_ERROR_IO") and ``message`` the library's message."""
 
-    status = None  # set on each subclass
+    status: Optional[int] = None  # set on each subclass
 
-    def __init__(self, message, status=None):
+    def __init__(self, message: str, status: Optional[int] = None) -> None:
         if status is None:
             status = type(self).status
         self.message = message
@@ -34,13 +38,13 @@ class Error(Exception):
         super().__init__(message)
 
     @property
-    def status_name(self):
+    def status_name(self) -> str:
         return _capi.text(_capi.lib.sf_status_name(self.status if self.status is not None else -1))
 
-    def __str__(self):
+    def __str__(self) -> str:
         return self.message
 
-    def __reduce__(self):
+    def __reduce__(self) -> Tuple[Any, ...]:
         return (type(self), (self.message, self.status))
 
 
@@ -85,7 +89,7 @@ ERRORS = {cls.status: cls for cls in (InvalidArgumentError, OutOfMemoryError, Fi
                                       UnsupportedError, CancelledError, NumericError, InternalError)}
 
 
-def error_for(status, message):
+def error_for(status: int, message: Optional[str]) -> Error:
     """The exception for a status code (an unknown code gives a plain Error)."""
     cls = ERRORS.get(status)
     if cls is None:
@@ -93,7 +97,7 @@ def error_for(status, message):
     return cls(message or _capi.text(_capi.lib.sf_status_name(status)), status)
 
 
-def check(status, handle=None):
+def check(status: int, handle: Any = None) -> None:
     """Raise the matching Error unless status is SF_OK. The message comes from
     ``sf_filter_last_error(handle)`` when a filter handle is given, else ``sf_last_error()``.
     Call it right after the C call, before any other statfilter call on this thread."""

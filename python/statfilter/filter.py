@@ -4,21 +4,36 @@ Nothing here knows any particular filter: parameters are listed and set through 
 named-parameter calls, so new filters and parameters need no Python change.
 """
 
+from __future__ import annotations
+
 import contextlib
 import ctypes
 import numbers
+import re
+from typing import TYPE_CHECKING, Any, Dict, List, Mapping, Optional, Union
 
 import numpy as np
 
 from . import _arrays, _capi
 from ._handle import OwnsHandle
-from ._progress import ProgressAdapter
+from ._progress import ProgressAdapter, ProgressCallback
 from .errors import InvalidArgumentError, NotFoundError, check, error_for
+
+if TYPE_CHECKING:  # the argument types of run_files, defined with the file functions
+    from .sequence import Channels, Frames, Pattern
+
+#: A parameter value: int, float or str by the parameter's type.
+ParamValue = Union[int, float, str]
+#: A result value: a number, a text, or an image (float32 array shaped (frames, height, width, channels)).
+ResultValue = Union[float, str, np.ndarray]
+
+# Results kept as text by the library that are numbers ("3", "0.25") come back as numbers too.
+_NUMBER_TEXT = re.compile(r"-?[0-9]+(\.[0-9]+)?([eE][-+]?[0-9]+)?")
 
 _TYPE_NAMES = {_capi.SF_PARAM_INT: "int", _capi.SF_PARAM_FLOAT: "float", _capi.SF_PARAM_STRING: "string"}
 
 
-def filters():
+def filters() -> Dict[str, str]:
     """The available filters as an ordered dict {name: description}."""
     out = {}
     for i in range(_capi.lib.sf_filter_count()):
@@ -32,7 +47,7 @@ def filters():
 _KIND_NAMES = {_capi.SF_FILTER_TEMPORAL: "temporal", _capi.SF_FILTER_SINGLE_FRAME: "single-frame"}
 
 
-def plugins():
+def plugins() -> List[Dict[str, Any]]:
     """Every filter the library finds, built-in or plugin, as a list of dicts with keys name,
     kind ("temporal", or "single-frame": usable as a temporal filter's ``prefilter``), version,
     origin ("built-in" or the plugin file's path), available (bool), problem (why not, "" if
@@ -55,12 +70,12 @@ def plugins():
     return out
 
 
-def version():
+def version() -> str:
     """The version of the loaded C library, e.g. "0.1.0"."""
     return _capi.text(_capi.lib.sf_version_string())
 
 
-def _same_memory(a, b):
+def _same_memory(a: np.ndarray, b: np.ndarray) -> bool:
     return (a.ctypes.data == b.ctypes.data and a.shape == b.shape and a.strides == b.strides)
 
 
@@ -77,14 +92,15 @@ class Filter(OwnsHandle):
     array and returns ``out`` (a new float32 array when None). Input and output are passed to the
     library without copies (see ``write_sequence`` for when a copy is made); ``out`` must be a
     writeable float32 array of the input's shape and may be the input itself. After a run,
-    ``filter.results`` holds the filter's results: {name: float, str, or for image results (e.g.
-    a per-pixel rank map) a float32 array shaped (frames, height, width, channels)}.
+    ``filter.results`` holds the filter's results: {name: float (every result that is a number,
+    also those the library keeps as text), str, or for image results (e.g. a per-pixel rank map) a
+    float32 array shaped (frames, height, width, channels)}.
     """
 
-    def __init__(self, name, **params):
+    def __init__(self, name: str, **params: ParamValue) -> None:
         self._handle = _capi.sf_filter()
         self.name = str(name)
-        self.results = {}
+        self.results: Dict[str, ResultValue] = {}
         check(_capi.lib.sf_filter_create(_capi.encode(self.name), ctypes.byref(self._handle)))
         try:
             self.set(**params)
@@ -94,7 +110,7 @@ class Filter(OwnsHandle):
 
     # ---- lifetime ----------------------------------------------------------------------------
 
-    def close(self):
+    def close(self) -> None:
         """Release the C filter (also done when the object is garbage collected)."""
         handle, self._handle = getattr(self, "_handle", None), _capi.sf_filter()
         if handle:
@@ -110,13 +126,13 @@ class Filter(OwnsHandle):
 
     # ---- parameters --------------------------------------------------------------------------
 
-    def set(self, **params):
+    def set(self, **params: ParamValue) -> "Filter":
         """Set parameters by keyword; returns self."""
         for key, value in params.items():
             self[key] = value
         return self
 
-    def __setitem__(self, name, value):
+    def __setitem__(self, name: str, value: ParamValue) -> None:
         handle = self._live()
         key = _capi.encode(name)
         if isinstance(value, str):
@@ -128,10 +144,10 @@ class Filter(OwnsHandle):
         else:
             raise TypeError("parameter '%s' takes an int, float or str, got %s" % (name, type(value).__name__))
 
-    def __getitem__(self, name):
+    def __getitem__(self, name: str) -> ParamValue:
         return self.get(name)
 
-    def get(self, name):
+    def get(self, name: str) -> ParamValue:
         """The current value of a parameter: int, float or str according to its type."""
         self._live()
         info = {p["name"]: p for p in self._param_infos()}.get(name)
@@ -141,7 +157,7 @@ class Filter(OwnsHandle):
             raise NotFoundError("unknown parameter '%s'" % name)
         return self._get_typed(name, info["type"])
 
-    def _get_typed(self, name, type_name):
+    def _get_typed(self, name: str, type_name: str) -> ParamValue:
         handle, key = self._live(), _capi.encode(name)
         if type_name == "int":
             value = ctypes.c_int64()
@@ -155,7 +171,7 @@ class Filter(OwnsHandle):
         self._check(_capi.lib.sf_filter_get_string(handle, key, ctypes.byref(value)))
         return _capi.text(value.value)
 
-    def params(self):
+    def params(self) -> List[Dict[str, Any]]:
         """The filter's parameters as a list of dicts with keys name, type ("int", "float" or
         "string"), default (text), description, min, max, choices (list of str) and value
         (the current value)."""
@@ -164,7 +180,7 @@ class Filter(OwnsHandle):
             p["value"] = self._get_typed(p["name"], p["type"])
         return out
 
-    def _param_infos(self):
+    def _param_infos(self) -> List[Dict[str, Any]]:
         handle = self._live()
         count = ctypes.c_int()
         self._check(_capi.lib.sf_filter_param_count(handle, ctypes.byref(count)))
@@ -185,11 +201,11 @@ class Filter(OwnsHandle):
             })
         return out
 
-    def _read_results(self):
+    def _read_results(self) -> Dict[str, ResultValue]:
         handle = self._live()
         count = ctypes.c_int()
         self._check(_capi.lib.sf_filter_result_count(handle, ctypes.byref(count)))
-        results = {}
+        results: Dict[str, ResultValue] = {}
         for i in range(count.value):
             name = ctypes.c_char_p()
             self._check(_capi.lib.sf_filter_result_name(handle, i, ctypes.byref(name)))
@@ -201,17 +217,22 @@ class Filter(OwnsHandle):
             text = ctypes.c_char_p()
             self._check(_capi.lib.sf_filter_result_string(handle, key, ctypes.byref(text)))
             value = _capi.text(text.value)
+            if _NUMBER_TEXT.fullmatch(value):
+                results[_capi.text(key)] = float(value)
+                continue
+            results[_capi.text(key)] = value
             # An image result's text reads "image <shape>": fetch the image itself as an array.
             if value.startswith("image") and _capi.has("sf_filter_result_sequence"):
                 image = _capi.sf_sequence()
                 if _capi.lib.sf_filter_result_sequence(handle, key, ctypes.byref(image)) == _capi.SF_OK:
-                    value = _arrays.adopt(image)
-            results[_capi.text(key)] = value
+                    results[_capi.text(key)] = _arrays.adopt(image)
         return results
 
     # ---- running -----------------------------------------------------------------------------
 
-    def __call__(self, array, out=None, progress=None, inputs=None):
+    def __call__(self, array: np.ndarray, out: Optional[np.ndarray] = None,
+                 progress: Optional[ProgressCallback] = None,
+                 inputs: Optional[Mapping[str, np.ndarray]] = None) -> np.ndarray:
         """Run the filter on ``array``. ``inputs`` maps the names of the filter's extra inputs to
         arrays of the input's shape, e.g. ``{"noisy": noisy}`` for the detect filter."""
         handle = self._live()
@@ -266,8 +287,10 @@ class Filter(OwnsHandle):
             np.copyto(out, target)
         return out
 
-    def run_files(self, input_pattern, output_pattern, memory=None, threads=0, overwrite=False, channels=None,
-                  frames=None, pixel_type="half", compression="zip", progress=None):
+    def run_files(self, input_pattern: Pattern, output_pattern: Pattern, memory: Union[int, str, None] = None,
+                  threads: int = 0, overwrite: bool = False, channels: Optional[Channels] = None,
+                  frames: Optional[Frames] = None, pixel_type: str = "half", compression: str = "zip",
+                  progress: Optional[ProgressCallback] = None) -> Dict[str, Any]:
         """Run the filter from one EXR frame sequence to another without holding the shot in memory
         where the filter allows it (pca and error-threshold stream; see docs/architecture.md).
 
@@ -306,7 +329,7 @@ class Filter(OwnsHandle):
         self.results = self._read_results()
         return self.results
 
-    def __repr__(self):
+    def __repr__(self) -> str:
         if not self._handle:
             return "<statfilter.Filter %r (closed)>" % self.name
         args = "".join(", %s=%r" % (p["name"], p["value"]) for p in self.params())

@@ -1,12 +1,17 @@
 """Error metrics of a sequence against a reference (sf_sequence_compare)."""
 
+from __future__ import annotations
+
 import ctypes
+from typing import Dict
+
+import numpy as np
 
 from . import _arrays, _capi
 from .errors import InvalidArgumentError, UnsupportedError, check
 
 
-def compare(array, reference):
+def compare(array: np.ndarray, reference: np.ndarray) -> Dict[str, float]:
     """Compare ``array`` with ``reference`` (both shaped (frames, height, width, channels), the
     same shape) using the project's metrics. Returns a dict of floats, one per field of the C
     struct sf_comparison (rel_mse, rel_mse_moving, rel_mse_static, moving_fraction, psnr, flicker,

@@ -1,32 +1,44 @@
 """Reading and writing frame sequences (EXR) as NumPy arrays.
 
-Patterns follow oiiotool: ``beauty.####.exr``, ``beauty.%04d.exr``, ``beauty.#.exr`` (4 digits),
-``beauty.@@@.exr``. Arrays are float32, shaped (frames, height, width, channels).
+Patterns: one ``#`` or ``@`` per digit as in Nuke and Houdini (``beauty.####.exr`` is
+``beauty.0001.exr``; a lone ``#`` is 4 digits; not oiiotool's convention, where each ``#`` is 4
+digits), or ``beauty.%04d.exr``. Arrays are float32, shaped (frames, height, width, channels).
 """
+
+from __future__ import annotations
 
 import ctypes
 import numbers
 import os
-from collections import namedtuple
+from typing import Any, List, Literal, NamedTuple, Optional, Sequence, Tuple, Union, overload
 
 import numpy as np
 
 from . import _arrays, _capi
-from ._progress import ProgressAdapter
+from ._progress import ProgressAdapter, ProgressCallback
 from .errors import InvalidArgumentError, check
 
 #: What ``read_sequence(..., return_info=True)`` returns beside the array.
-SequenceInfo = namedtuple("SequenceInfo", ["channel_names", "frame_numbers"])
-SequenceInfo.__doc__ = ("channel_names: list of str, one per channel (a layer's channels are named "
-                        "by their suffix, e.g. R, G, B); frame_numbers: list of int, the number on "
-                        "disk of each frame, ascending.")
+class SequenceInfo(NamedTuple):
+    """channel_names: list of str, one per channel (a layer's channels are named by their suffix,
+    e.g. R, G, B); frame_numbers: list of int, the number on disk of each frame, ascending."""
+    channel_names: List[str]
+    frame_numbers: List[int]
+
+
+#: A file pattern or name (str, bytes or a path).
+Pattern = Union[str, bytes, "os.PathLike[str]"]
+#: Frames to read: "1-48", "1-10,12", an int, a range or a list of ints.
+Frames = Union[str, bytes, int, range, Sequence[int]]
+#: Channels to read: "R,G,B", a layer name, or a list of names.
+Channels = Union[str, bytes, Sequence[str]]
 
 _PIXEL_TYPES = {"half": _capi.SF_PIXEL_HALF, "float": _capi.SF_PIXEL_FLOAT}
 _HALF_OVERFLOW = {"error": 0, "clamp": 1}
 _DEFAULT_CHANNEL_NAMES = {1: ["Y"], 3: ["R", "G", "B"], 4: ["R", "G", "B", "A"]}
 
 
-def _channels_text(channels):
+def _channels_text(channels: Optional[Channels]) -> Optional[bytes]:
     if channels is None:
         return None
     if isinstance(channels, (str, bytes)):
@@ -37,7 +49,7 @@ def _channels_text(channels):
     return ",".join(names).encode("utf-8")
 
 
-def _frames_text(frames):
+def _frames_text(frames: Optional[Frames]) -> Optional[bytes]:
     if frames is None:
         return None
     if isinstance(frames, (str, bytes)):
@@ -76,7 +88,7 @@ def _set_colour_and_progress(options, ocio_config, colorspace_in, colorspace_out
     return adapter
 
 
-def _read_options(channels, frames):
+def _read_options(channels: Optional[Channels], frames: Optional[Frames]) -> Tuple[Any, Any]:
     """sf_read_options for a channel and frame selection, and the encoded strings it points to."""
     options = _capi.sf_read_options()
     _capi.lib.sf_read_options_init(ctypes.byref(options))
@@ -85,7 +97,7 @@ def _read_options(channels, frames):
     return options, keep
 
 
-def _write_options(pixel_type, compression):
+def _write_options(pixel_type: str, compression: str) -> Tuple[Any, Any]:
     """sf_write_options for a pixel type and compression, and the encoded string it points to."""
     options = _capi.sf_write_options()
     _capi.lib.sf_write_options_init(ctypes.byref(options))
@@ -95,8 +107,20 @@ def _write_options(pixel_type, compression):
     return options, keep
 
 
-def read_sequence(pattern, channels=None, frames=None, ocio_config=None, colorspace_in=None,
-                  colorspace_out=None, progress=None, return_info=False):
+@overload
+def read_sequence(pattern: Pattern, channels: Optional[Channels] = ..., frames: Optional[Frames] = ...,
+                  ocio_config: Optional[str] = ..., colorspace_in: Optional[str] = ...,
+                  colorspace_out: Optional[str] = ..., progress: Optional[ProgressCallback] = ...,
+                  return_info: Literal[False] = ...) -> np.ndarray: ...
+@overload
+def read_sequence(pattern: Pattern, channels: Optional[Channels] = ..., frames: Optional[Frames] = ...,
+                  ocio_config: Optional[str] = ..., colorspace_in: Optional[str] = ...,
+                  colorspace_out: Optional[str] = ..., progress: Optional[ProgressCallback] = ...,
+                  *, return_info: Literal[True]) -> Tuple[np.ndarray, SequenceInfo]: ...
+def read_sequence(pattern: Pattern, channels: Optional[Channels] = None, frames: Optional[Frames] = None,
+                  ocio_config: Optional[str] = None, colorspace_in: Optional[str] = None,
+                  colorspace_out: Optional[str] = None, progress: Optional[ProgressCallback] = None,
+                  return_info: bool = False) -> Union[np.ndarray, Tuple[np.ndarray, SequenceInfo]]:
     """Read a frame sequence into a float32 array shaped (frames, height, width, channels).
 
     pattern:   ``dir/beauty.####.exr`` (or ``%04d``, ``#``, ``@@@``); a name without a frame token
@@ -140,9 +164,10 @@ def read_sequence(pattern, channels=None, frames=None, ocio_config=None, colorsp
     return (array, info) if return_info else array
 
 
-def write_sequence(pattern, array, pixel_type="half", compression="zip", frame_numbers=None,
-                   channel_names=None, half_overflow="error", ocio_config=None, colorspace_in=None,
-                   colorspace_out=None, progress=None):
+def write_sequence(pattern: Pattern, array: np.ndarray, pixel_type: str = "half", compression: str = "zip",
+                   frame_numbers: Optional[Sequence[int]] = None, channel_names: Optional[Union[str, Sequence[str]]] = None,
+                   half_overflow: str = "error", ocio_config: Optional[str] = None, colorspace_in: Optional[str] = None,
+                   colorspace_out: Optional[str] = None, progress: Optional[ProgressCallback] = None) -> List[Union[str, bytes]]:
     """Write an array shaped (frames, height, width, channels) as one EXR file per frame.
 
     The array is passed to the library without a copy when it is float32 with non-negative
@@ -199,7 +224,7 @@ def write_sequence(pattern, array, pixel_type="half", compression="zip", frame_n
     return [pattern_format(pattern, n) for n in numbers_written]
 
 
-def pattern_frames(pattern):
+def pattern_frames(pattern: Pattern) -> List[int]:
     """The frame numbers found on disk for a pattern, ascending. NotFoundError if none."""
     p = _capi.encode_path(pattern)
     count = ctypes.c_size_t()
@@ -209,7 +234,7 @@ def pattern_frames(pattern):
     return list(buffer[:count.value])
 
 
-def pattern_format(pattern, frame):
+def pattern_format(pattern: Pattern, frame: int) -> Union[str, bytes]:
     """The file name of one frame of a pattern, e.g. ("a.####.exr", 7) -> "a.0007.exr"."""
     p = _capi.encode_path(pattern)
     needed = ctypes.c_size_t()

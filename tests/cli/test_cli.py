@@ -88,9 +88,13 @@ def test_missing_channel_and_no_frames(small_sequence, tmp_path):
 def test_unknown_method_and_parameter(small_sequence, tmp_path):
     proc = run("denoise", small_sequence / "noisy.####.exr", tmp_path / "d.####.exr", "--method", "nope", check_rc=1)
     assert "unknown filter 'nope'" in proc.stderr
+    # A name no filter has is a usage error; a parameter of another filter is refused by this one.
     proc = run("denoise", small_sequence / "noisy.####.exr", tmp_path / "d.####.exr", "--method", "copy",
-               "--bogus", "3", check_rc=1)
-    assert "unknown parameter 'bogus'" in proc.stderr
+               "--bogus", "3", check_rc=2)
+    assert "unknown option --bogus" in proc.stderr
+    proc = run("denoise", small_sequence / "noisy.####.exr", tmp_path / "d.####.exr", "--method", "copy",
+               "--rank", "3", check_rc=1)
+    assert "unknown parameter 'rank'" in proc.stderr
 
 
 def test_denoise_json_report(small_sequence, tmp_path):

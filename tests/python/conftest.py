@@ -1,6 +1,12 @@
-"""Shared fixtures. ctest runs these tests with PYTHONPATH pointing at the staged package
-(<build>/python) and STATFILTER_LIBRARY at the built library. Run by hand from a source tree, the
-package is taken from ../../python (then STATFILTER_LIBRARY must name libstatfilter.so.0)."""
+"""Shared fixtures. Where the package under test comes from:
+
+- ctest: PYTHONPATH points at the package staged in the build tree (<build>/python) and
+  STATFILTER_LIBRARY at the library just built;
+- STATFILTER_TEST_INSTALLED=1 (scripts/test_wheel.sh): the package installed by pip, which must find
+  its own library beside it; importing it from this source tree or a build tree is an error, and
+  STATFILTER_LIBRARY must not be set;
+- by hand from a source tree: ../../python (then STATFILTER_LIBRARY must name libstatfilter.so.0).
+"""
 
 import os
 import sys
@@ -10,12 +16,26 @@ import pytest
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 HEADER = os.path.normpath(os.path.join(HERE, "..", "..", "capi", "include", "statfilter", "statfilter.h"))
+INSTALLED = os.environ.get("STATFILTER_TEST_INSTALLED") == "1"
 
-try:
-    import statfilter  # noqa: F401
-except ImportError:
-    sys.path.insert(0, os.path.normpath(os.path.join(HERE, "..", "..", "python")))
-    import statfilter  # noqa: F401
+if INSTALLED:
+    if os.environ.get("STATFILTER_LIBRARY"):
+        raise RuntimeError("STATFILTER_TEST_INSTALLED=1 tests the library inside the installed package: "
+                           "unset STATFILTER_LIBRARY")
+    import statfilter  # noqa: E402
+
+    _package = os.path.dirname(os.path.abspath(statfilter.__file__))
+    if "site-packages" not in _package.split(os.sep):
+        raise RuntimeError("STATFILTER_TEST_INSTALLED=1 but statfilter was imported from %s, not from an "
+                           "installed package" % _package)
+    if os.path.dirname(os.path.abspath(statfilter.library_path)) != _package:
+        raise RuntimeError("the installed package loaded %s, not its own library" % statfilter.library_path)
+else:
+    try:
+        import statfilter  # noqa: F401
+    except ImportError:
+        sys.path.insert(0, os.path.normpath(os.path.join(HERE, "..", "..", "python")))
+        import statfilter  # noqa: F401
 
 
 @pytest.fixture

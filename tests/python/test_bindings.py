@@ -274,3 +274,58 @@ def test_library_from_environment(monkeypatch, tmp_path):
     assert path == _capi.library_path
     lib.sf_version_string.restype = ctypes.c_char_p
     assert lib.sf_version_string().decode() == statfilter.version()
+
+
+def test_missing_system_library_names_the_debian_package():
+    from statfilter import _library
+    error = "libOpenColorIO.so.2.1: cannot open shared object file: No such file or directory"
+    message = _library.missing_system_library_message("/x/statfilter/libstatfilter.so.0", error)
+    assert "libOpenColorIO.so.2.1" in message and "libopencolorio2.1" in message
+    assert "apt-get install" in message and "libopenimageio2.4" in message
+    # Other failures keep the search report.
+    assert _library.missing_system_library_message("/x/libstatfilter.so.0", "invalid ELF header") is None
+    assert _library.missing_system_library_message(
+        "/x/a.so", "libstatfilter.so.0: cannot open shared object file: No such file or directory") is None
+
+
+def test_missing_system_library_raises_import_error(monkeypatch, tmp_path):
+    from statfilter import _library
+    (tmp_path / "libstatfilter.so.0").write_bytes(b"")
+
+    def cdll(path):
+        raise OSError("liblapacke.so.3: cannot open shared object file: No such file or directory")
+    monkeypatch.setattr(_library, "_PACKAGE_DIR", str(tmp_path))
+    monkeypatch.setattr(_library.ctypes, "CDLL", cdll)
+    with pytest.raises(ImportError, match="liblapacke.so.3.*not installed"):
+        _library.load_library()
+
+
+def test_every_system_library_the_library_links_is_listed():
+    """The table behind the import-time message matches what the loaded library really links."""
+    readelf = shutil.which("readelf")
+    if not readelf:
+        pytest.skip("no readelf")
+    from statfilter import _library
+    out = subprocess.run([readelf, "-d", statfilter.library_path], capture_output=True, text=True, check=True).stdout
+    needed = {line.split("[")[1].rstrip("]") for line in out.splitlines() if "(NEEDED)" in line}
+    runtime = {"libstdc++.so.6", "libm.so.6", "libgcc_s.so.1", "libc.so.6", "ld-linux-x86-64.so.2"}
+    if any(re.match(r"lib(a|ub|t|l)san\.so", n) for n in needed):
+        pytest.skip("a sanitizer build links more libraries (no --as-needed) than the wheel's Release build")
+    assert needed - runtime == set(_library.SYSTEM_LIBRARIES), needed
+
+
+def test_public_api_is_typed():
+    import inspect
+    package = os.path.dirname(statfilter.__file__)
+    assert os.path.exists(os.path.join(package, "py.typed"))
+    for name in statfilter.__all__:
+        obj = getattr(statfilter, name)
+        functions = [obj] if inspect.isfunction(obj) else \
+            [f for k, f in vars(obj).items() if inspect.isfunction(f) and (not k.startswith("_") or k in
+             ("__init__", "__call__"))] if inspect.isclass(obj) else []
+        for f in functions:
+            sig = inspect.signature(f)
+            untyped = [p for p in sig.parameters.values()
+                       if p.name not in ("self", "cls") and p.annotation is inspect.Parameter.empty]
+            assert not untyped, "%s.%s: %s" % (name, f.__name__, untyped)
+            assert sig.return_annotation is not inspect.Signature.empty, "%s.%s returns no type" % (name, f.__name__)

@@ -1,5 +1,7 @@
 """The Filter class and the listing functions, generic over whatever filters the library has."""
 
+import re
+
 import numpy as np
 import pytest
 
@@ -102,6 +104,7 @@ def test_every_filter_runs_on_arrays(name, rng):
         assert isinstance(value, (float, str, np.ndarray)), key
         if isinstance(value, str):
             assert not value.startswith("image"), "image result %r not fetched as an array" % key
+            assert not re.fullmatch(r"-?[0-9.]+([eE][-+]?[0-9]+)?", value), "number %r=%r given as text" % (key, value)
         if isinstance(value, np.ndarray):
             assert value.dtype == np.float32 and value.ndim == 4
             assert value.shape[1:3] == noisy.shape[1:3]
@@ -120,5 +123,7 @@ def test_quality_presets_through_the_auto_filter(rng):
     out = fast(seq)
     assert fast.results["method"] == "pca" and fast.results["quality"] == "fast"
     np.testing.assert_array_equal(out, statfilter.Filter("pca", transform="none")(seq))
+    # The chosen method's own results, which the library keeps as text ("pca.rank": "1"), are numbers.
+    assert isinstance(fast.results["pca.rank"], float) and fast.results["pca.rank"] >= 0
     with pytest.raises(statfilter.InvalidArgumentError, match="balanced"):
         statfilter.Filter("auto", quality="best")
