@@ -7,7 +7,7 @@ repeated to the frame count: the noise is not realistic, the cost is) and never 
 
     python3 bench/streaming_benchmark.py                      # 1080p x 32, then 1080p x 200 and 4K x 100
     python3 bench/streaming_benchmark.py --only 1080p-32      # one shot
-Writes docs/streaming.json and docs/streaming.md. Build first: bash scripts/build.sh build-release
+Writes docs/streaming.json and docs/streaming.md. Build first: bash scripts/build.sh build-release -DCMAKE_BUILD_TYPE=Release
 """
 import argparse
 import json
