@@ -123,21 +123,22 @@ void LowRankStage::run(const FrameSource& source, const FrameConsumer& consume, 
         m.gram.assign(static_cast<size_t>(F * F), 0.0);
         models.push_back(std::move(m));
     }
-    // Band height: the whole shot when it is in memory, else as many rows as the budget leaves.
-    const bool whole = source.in_memory() != nullptr;
+    // Band height: the whole shot when it is in memory, else as many rows as the budget leaves. A
+    // single band (the shot fits) is kept, with its prepared tiles, for the second pass: one read.
+    const bool in_memory = source.in_memory() != nullptr;
     const int64_t bound_rank = options_.per_pixel ? options_.max_rank : options_.known_rank;
     const double fixed = fixed_bytes(s, std::min<int64_t>(bound_rank, std::max<int64_t>(F - 1, 0)), ctx.threads);
     const auto fit_rows = static_cast<int64_t>((ctx.budget_bytes - fixed) / band_row_bytes(s));
-    const int64_t rows = whole ? s.height : std::max<int64_t>(1, std::min(s.height, fit_rows));
-    const double tile_budget = whole ? ctx.budget_bytes : band_row_bytes(s) * rows;
+    const int64_t rows = in_memory ? s.height : std::max<int64_t>(1, std::min(s.height, fit_rows));
+    bool keep = rows >= s.height;
+    const double tile_budget = in_memory ? ctx.budget_bytes : band_row_bytes(s) * rows;
     std::vector<float> buffer;
     int64_t repaired = 0;
 
-    // The prepared series of one band stay cached between the passes when the whole shot is one tile.
     std::vector<std::unique_ptr<PreparedSeries>> cached(models.size());
-    std::unique_ptr<Sequence> whole_view;
+    std::unique_ptr<Sequence> kept_band;
     auto series_of = [&](size_t g, const Sequence& band) -> PreparedSeries& {
-        if (!cached[g] || !whole)
+        if (!cached[g] || !keep)
             cached[g] = std::make_unique<PreparedSeries>(band, models[g].group, options_.prep, tile_budget, 3);
         return *cached[g];
     };
@@ -154,7 +155,7 @@ void LowRankStage::run(const FrameSource& source, const FrameConsumer& consume, 
             series_of(g, *band).read({progress, at + span * g / models.size(), span / models.size(), "basis"},
                                      [&](const PreparedTile& t) { accumulate_gram(t, F, m.gram); m.series += t.n; });
         }
-        if (whole) whole_view = std::move(band);
+        if (keep) kept_band = std::move(band);
     }
     for (GroupModel& m : models) {
         m.basis = basis_from_gram(std::move(m.gram), F, m.series);
@@ -173,23 +174,30 @@ void LowRankStage::run(const FrameSource& source, const FrameConsumer& consume, 
     }
 
     // The coefficients' size is known now (an automatic rank): the bands of pass 2 shrink to leave
-    // room for them, or the run stops here, before anything is written.
+    // room for them (the kept band is let go if it must be), or the run stops here, before anything
+    // is written.
     int64_t rows2 = rows;
-    if (!whole) {
+    if (!in_memory) {
         int64_t most = 0;
         for (const GroupModel& m : models) most = std::max(most, m.stored);
         const double held = fixed_bytes(s, most, ctx.threads);
+        if (keep && held + band_row_bytes(s) * rows > ctx.budget_bytes) {
+            keep = false;
+            kept_band.reset();
+            for (auto& c : cached) c.reset();
+        }
         check_memory_budget(held + band_row_bytes(s), ctx.budget_bytes,
                             "the temporal model (" + std::to_string(most) + " components per series)");
-        rows2 = std::max<int64_t>(1, std::min(rows, static_cast<int64_t>((ctx.budget_bytes - held) / band_row_bytes(s))));
+        if (!keep)
+            rows2 = std::max<int64_t>(1, std::min(rows, static_cast<int64_t>((ctx.budget_bytes - held) / band_row_bytes(s))));
     }
-    const int64_t bands2 = whole ? bands : (s.height + rows2 - 1) / rows2;
+    const int64_t bands2 = keep ? 1 : (s.height + rows2 - 1) / rows2;
 
     // Pass 2: every series' mean and coefficients (and, per pixel, their energies).
     std::vector<double> a;
     for (int64_t b = 0; b < bands2; ++b) {
         const int64_t y0 = b * rows2, y1 = std::min(s.height, y0 + rows2);
-        auto band = whole ? std::move(whole_view) : band_view(source, y0, y1, buffer, ctx.threads);
+        auto band = keep ? std::move(kept_band) : band_view(source, y0, y1, buffer, ctx.threads);
         const double at = 0.4 + 0.3 * b / bands2, span = 0.3 / bands2;
         for (size_t g = 0; g < models.size(); ++g) {
             GroupModel& m = models[g];
