@@ -8,7 +8,7 @@
 namespace statfilter_cli {
 
 int cmd_compare(int argc, char** argv) {
-    const Args args(argc, argv, 2, {"json", "quiet", "help"}, kInputOptions);
+    const Args args(argc, argv, 2, {"json", "quiet", "help"}, kInputOptions, {});
     if (args.flag("help")) {
         std::printf("usage: statfilter compare TEST REF [options]\n\n"
                     "Error of TEST against the reference REF (same frames, size and channels):\n"

@@ -131,7 +131,7 @@ const char* const kRunHelp =
 }  // namespace
 
 int cmd_copy(int argc, char** argv) {
-    const Args args(argc, argv, 2, kFlags, merged({kInputOptions, kOutputOptions, kRunOptions}));
+    const Args args(argc, argv, 2, kFlags, merged({kInputOptions, kOutputOptions, kRunOptions}), {});
     if (args.flag("help")) {
         std::printf("usage: statfilter copy IN OUT [options]\n\nReads a sequence and writes it unchanged through the "
                     "filter path (bit-exact with --float).\n\n%s\n%s\n%s  --json, --quiet\n", kInputHelp, kOutputHelp, kRunHelp);
