@@ -43,6 +43,15 @@ sf_status sf_filter_run(sf_filter filter, const char* input_pattern, const sf_re
         checks.input_pattern = in;
         checks.overwrite = r.overwrite != 0;
         auto sink = open_frame_sink(out, wo, source->attributes(), checks);
+        // Provenance in every frame: who made it, with what (the parameters not at their defaults).
+        std::string changed;
+        for (const ParamSpec& spec : f.params().specs()) {
+            const std::string& value = f.params().get_string(spec.name);
+            if (value != spec.default_value) changed += (changed.empty() ? "" : " ") + spec.name + "=" + value;
+        }
+        sink->set_attribute("statfilter:version", sf_version_string());
+        sink->set_attribute("statfilter:filter", filter->name);
+        sink->set_attribute("statfilter:parameters", changed);
         RunOptions options;
         options.budget_bytes = static_cast<double>(r.memory);
         options.threads = r.threads;

@@ -12,6 +12,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <mutex>
 #include <set>
 
 #include "pipeline/frame_source.hpp"
@@ -70,7 +71,8 @@ long temporary_owner(const std::string& name) {
 
 // Writes one frame to a temporary file beside its final name and returns that file's name.
 std::string write_temporary(const std::string& path, const float* pixels, const Sequence& attributes, int64_t f,
-                            const Shape& s, const WriteOptions& options) {
+                            const Shape& s, const WriteOptions& options,
+                            const std::vector<std::pair<std::string, std::string>>& extra) {
     OIIO::ImageSpec spec(static_cast<int>(s.width), static_cast<int>(s.height), static_cast<int>(s.channels),
                          options.half ? OIIO::TypeDesc::HALF : OIIO::TypeDesc::FLOAT);
     spec.channelnames = attributes.channel_names();
@@ -78,6 +80,7 @@ std::string write_temporary(const std::string& path, const float* pixels, const 
     for (int64_t c = 0; c < s.channels; ++c)
         if (attributes.channel_names()[c] == "A") spec.alpha_channel = static_cast<int>(c);
     for (const auto& p : attributes.metadata()[f]) spec.attribute(p.name().string(), p.type(), p.data());
+    for (const auto& [name, value] : extra) spec.attribute(name, value);
     spec.attribute("compression", options.compression);
 
     const std::string tmp = temporary_name(path);
@@ -156,8 +159,23 @@ public:
                 check_half_range(frame, attributes_, f);
             }
         }
+        std::vector<std::pair<std::string, std::string>> extra;
+        {
+            std::lock_guard<std::mutex> lock(mutex_);
+            extra = extra_;
+        }
         temporaries_[static_cast<size_t>(f)] = write_temporary(paths_[static_cast<size_t>(f)], frame.data(), attributes_, f,
-                                                               shape_, options_);
+                                                               shape_, options_, extra);
+    }
+
+    void set_attribute(const std::string& name, const std::string& value) override {
+        std::lock_guard<std::mutex> lock(mutex_);
+        for (auto& [n, v] : extra_)
+            if (n == name) {
+                v = value;
+                return;
+            }
+        extra_.emplace_back(name, value);
     }
 
     void commit() override {
@@ -247,6 +265,8 @@ private:
     fs::path dir_;
     std::string lock_path_;
     int64_t stale_removed_ = 0;
+    std::mutex mutex_;
+    std::vector<std::pair<std::string, std::string>> extra_;
 };
 
 }  // namespace

@@ -33,6 +33,9 @@ public:
     virtual void write_frame(int64_t f, const float* pixels) = 0;
     // Makes every frame written visible; before it nothing is (a failed run leaves what was there).
     virtual void commit() = 0;
+    // A text attribute for every frame written after this call (provenance: what made the frames).
+    // Sinks without metadata ignore it.
+    virtual void set_attribute(const std::string& name, const std::string& value) { (void)name, (void)value; }
 };
 
 // A sequence in memory as a source (borrowed, zero-copy) and as a sink.

@@ -1,6 +1,7 @@
 // Filter::check and Filter::execute(source, sink): the scheduler's side of a filter.
 #include "pipeline/scheduler.hpp"
 
+#include <algorithm>
 #include <vector>
 
 #include "filters/frame_stages.hpp"
@@ -89,11 +90,15 @@ void Filter::execute(const FrameSource& source, FrameSink& sink, const RunOption
             input = owned.get();
         }
         Sequence output(s);
-        // execute runs the prefilter and postfilter itself, on the whole shot.
+        // execute runs the prefilter and postfilter itself, on the whole shot; what a preset picked is
+        // known before the first frame is written, so the frames can say.
         execute(*input, output, Progress([&](double fraction, const char* name) {
             progress.report(0.2 + 0.7 * fraction, name);
             return true;
         }));
+        for (const char* name : {"method", "reason"})
+            if (std::find(results_.names().begin(), results_.names().end(), name) != results_.names().end())
+                sink.set_attribute(std::string("statfilter:") + name, results_.get_string(name));
         parallel_for(s.frames, threads, [&](int64_t f) { sink.write_frame(f, &output.at(f, 0, 0, 0)); },
                      {progress, 0.9, 0.1, "write"});
     }

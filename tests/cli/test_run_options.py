@@ -64,3 +64,17 @@ def test_sigterm_stops_the_run_and_leaves_no_file(sample_noisy, tmp_path):
     assert proc.wait(timeout=120) == 128 + signal.SIGTERM, first + rest
     assert "interrupted" in rest
     assert list(tmp_path.iterdir()) == []  # no frame, no temporary file, no lock
+
+
+def test_every_output_frame_says_what_made_it(small_sequence, tmp_path):
+    import subprocess
+
+    from conftest import oiio_tool
+    run("denoise", small_sequence / "noisy.####.exr", tmp_path / "p.####.exr", "--method", "pca", "--rank", "2", "--quiet")
+    run("denoise", small_sequence / "noisy.####.exr", tmp_path / "b.####.exr", "--quality", "balanced", "--quiet")
+    info = subprocess.run([oiio_tool("oiiotool"), "--info", "-v", str(tmp_path / "p.0003.exr")],
+                          capture_output=True, text=True).stdout
+    assert 'statfilter:filter: "pca"' in info and "rank=2" in info and "statfilter:version" in info
+    info = subprocess.run([oiio_tool("oiiotool"), "--info", "-v", str(tmp_path / "b.0001.exr")],
+                          capture_output=True, text=True).stdout
+    assert "statfilter:method" in info and "statfilter:reason" in info  # what the preset picked, and why
