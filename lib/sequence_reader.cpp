@@ -75,9 +75,15 @@ std::vector<Selected> select_channels(const FileLayout& layout, const std::strin
     std::vector<Selected> out;
     if (request.empty()) {
         for (const auto& ch : layout.channels) out.push_back({ch, ch.name});
+        if (out.empty()) throw Error(Status::Io, "cannot read '" + path + "': the file has no channels");
         return out;
     }
-    for (const std::string& item : split_list(request)) {
+    const std::vector<std::string> items = split_list(request);
+    if (items.empty())
+        throw Error(Status::InvalidArgument, "the channel list '" + request +
+                                                 "' names no channel or layer (give names such as R,G,B, or leave it "
+                                                 "empty for every channel)");
+    for (const std::string& item : items) {
         bool found = false;
         for (const auto& ch : layout.channels)
             if (ch.name == item) {

@@ -178,6 +178,18 @@ TEST(SequenceIO, SingleFramePatternWithoutToken) {
     EXPECT_EQ(back->at(0, 1, 1, 0), 4.5f);
 }
 
+TEST(SequenceIO, ChannelListNamingNothingIsRefused) {
+    TempDir dir;
+    write_sequence(*make_sequence(), dir.file("c.####.exr"), float_options());
+    for (const char* list : {",", " ", ",,,", " , ,"}) {
+        ReadOptions o;
+        o.channels = list;
+        const auto [status, message] = error_of([&] { read_sequence(dir.file("c.####.exr"), o); });
+        EXPECT_EQ(status, Status::InvalidArgument) << list;
+        EXPECT_NE(message.find("names no channel"), std::string::npos) << message;
+    }
+}
+
 // A Blender-like multi-part sequence: the beauty in part 0, the indirect light in part 1.
 class MultiPart : public ::testing::Test {
 protected:
