@@ -51,3 +51,18 @@ def test_channel_list_naming_nothing(small_sequence, tmp_path, channels):
         assert "names no channel or layer" in proc.stderr, args
         assert len(proc.stderr.strip().splitlines()) == 1
     assert not list(tmp_path.glob("*.exr"))
+
+
+def test_wide_padding_writes_every_frame_to_its_own_file(small_sequence, tmp_path):
+    run("copy", small_sequence / "noisy.####.exr", tmp_path / "o.%040d.exr", "-q")
+    assert sorted(p.name for p in tmp_path.glob("o.*.exr")) == ["o.%040d.exr" % f for f in range(1, 5)]
+    report = json.loads(run("info", tmp_path / "o.%040d.exr", "--json").stdout)
+    assert report["frame_count"] == 4
+
+
+def test_absurd_padding_is_a_clear_error(small_sequence, tmp_path):
+    proc = run("copy", small_sequence / "noisy.####.exr", tmp_path / "a.%99999999999d.exr", check_rc=1)
+    assert "more than 64 digits" in proc.stderr and "internal error" not in proc.stderr
+    proc = run("info", tmp_path / "a.%99999999999d.exr", check_rc=1)
+    assert "more than 64 digits" in proc.stderr
+    assert not list(tmp_path.glob("a.*"))
