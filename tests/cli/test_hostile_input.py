@@ -15,6 +15,12 @@ from conftest import CLI, oiio_tool, run
 NO_HANG = 60  # seconds: a blocked read of a FIFO would wait forever
 
 
+def run_quickly(*args, check_rc):
+    proc = subprocess.run([CLI, *map(str, args)], capture_output=True, text=True, timeout=NO_HANG)
+    assert proc.returncode == check_rc, f"exit {proc.returncode}\nstdout:{proc.stdout}\nstderr:{proc.stderr}"
+    return proc
+
+
 def crops_document(width, height, windows):
     return json.dumps({"format": "statfilter-crops", "version": 1, "width": width, "height": height,
                        "frames": [{"frame": f, "windows": [{"x": x, "y": y, "width": w, "height": h}]}
@@ -66,3 +72,63 @@ def test_absurd_padding_is_a_clear_error(small_sequence, tmp_path):
     proc = run("info", tmp_path / "a.%99999999999d.exr", check_rc=1)
     assert "more than 64 digits" in proc.stderr
     assert not list(tmp_path.glob("a.*"))
+
+
+def test_fifo_and_device_frames_fail_at_once(small_sequence):
+    os.mkfifo(small_sequence / "noisy.0005.exr")
+    os.symlink("/dev/zero", small_sequence / "noisy.0006.exr")
+    os.symlink("/dev/urandom", small_sequence / "noisy.0007.exr")
+    for frames, kind in (("1-5", "a FIFO"), ("6", "a character device"), ("7", "a character device")):
+        proc = run_quickly("info", small_sequence / "noisy.####.exr", "--frames", frames, check_rc=1)
+        assert kind in proc.stderr and "not a regular file" in proc.stderr, proc.stderr
+        assert "noisy.000%s.exr" % frames[-1] in proc.stderr
+
+
+def test_missing_frames_are_reported_before_memory_is_taken(small_sequence):
+    proc = run_quickly("info", small_sequence / "noisy.####.exr", "--frames", "1-20000", check_rc=1)
+    assert "frames 5-20000 are missing (found 1-4;" in proc.stderr and "noisy.0005.exr" in proc.stderr
+
+
+def test_a_sequence_that_cannot_fit_in_memory_is_refused(tmp_path):
+    # One 4096 x 4096 frame (256 MiB as float, a few kB on disk) linked as enough frames to need
+    # twice the memory this machine has available.
+    frame = tmp_path / "big.exr"
+    subprocess.run([oiio_tool("oiiotool"), "--create", "4096x4096", "4", "-d", "half", "-o", str(frame)], check=True)
+    with open("/proc/meminfo") as f:
+        available_kb = next(int(line.split()[1]) for line in f if line.startswith("MemAvailable:"))
+    count = 2 * available_kb * 1024 // (4096 * 4096 * 4 * 4) + 2
+    if count > 5000:
+        pytest.skip("more memory available than a few thousand links can exceed")
+    for f in range(1, count + 1):
+        os.symlink(frame, tmp_path / ("s.%04d.exr" % f))
+    proc = run_quickly("info", tmp_path / "s.####.exr", check_rc=1)
+    needed = count * 4096 * 4096 * 4 * 4
+    assert "need %d bytes" % needed in proc.stderr and "memory available" in proc.stderr, proc.stderr
+
+
+def test_permission_denied_is_said(small_sequence, tmp_path):
+    victim = small_sequence / "noisy.0002.exr"
+    if os.geteuid() != 0:
+        os.chmod(victim, 0)
+        proc = run("info", small_sequence / "noisy.####.exr", check_rc=1)
+    else:
+        # root reads anything: run the tool as nobody on a copy that nobody may read.
+        setpriv = shutil.which("setpriv")
+        if not setpriv:
+            pytest.skip("setpriv (util-linux) is not installed")
+        shared = pathlib.Path(tempfile.mkdtemp())  # pytest's own directories are private to root
+        try:
+            os.chmod(shared, 0o755)
+            for f in small_sequence.iterdir():
+                shutil.copy(f, shared / f.name)
+                os.chmod(shared / f.name, 0o644)
+            os.chmod(shared / victim.name, 0o600)
+            proc = subprocess.run([setpriv, "--reuid=65534", "--regid=65534", "--clear-groups", CLI, "info",
+                                   str(shared / "noisy.####.exr")], capture_output=True, text=True, timeout=NO_HANG)
+        finally:
+            shutil.rmtree(shared)
+        if "noisy" not in proc.stderr:
+            pytest.skip("nobody cannot run the built tool here: " + proc.stderr.strip())
+        assert proc.returncode == 1, proc.stderr
+    assert "noisy.0002.exr" in proc.stderr and "Permission denied" in proc.stderr, proc.stderr
+    assert "not an OpenEXR file" not in proc.stderr
