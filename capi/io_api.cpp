@@ -1,4 +1,7 @@
 // sf_pattern_*, sf_sequence_read and sf_sequence_write: files in and out.
+#include <cctype>
+#include <cmath>
+#include <cstdlib>
 #include <cstring>
 
 #include "api_guard.hpp"
@@ -31,6 +34,29 @@ ColorConversion color_of(const char* config, const char* from, const char* to) {
     c.from = text_or_empty(from);
     c.to = text_or_empty(to);
     return c;
+}
+
+// The level after "name:" (the writer checks the name): a whole number 1-9 for zip and zips, a
+// number > 0 for dwaa and dwab, none for the others. OpenEXR would otherwise ignore it silently.
+void check_compression_level(const std::string& compression) {
+    const size_t colon = compression.find(':');
+    if (colon == std::string::npos) return;
+    const std::string name = compression.substr(0, colon), level = compression.substr(colon + 1);
+    const bool zip = name == "zip" || name == "zips", dwa = name == "dwaa" || name == "dwab";
+    if (!zip && !dwa)
+        throw Error(Status::InvalidArgument, "EXR compression '" + compression + "': " + name +
+                                                 " takes no level (only zip, zips, dwaa and dwab do)");
+    char* end = nullptr;
+    const double value = level.empty() || std::isspace(static_cast<unsigned char>(level[0]))
+                             ? 0.0
+                             : std::strtod(level.c_str(), &end);
+    const bool number = end && *end == '\0' && std::isfinite(value);
+    if (zip && !(number && value == std::floor(value) && value >= 1 && value <= 9))
+        throw Error(Status::InvalidArgument, "EXR compression '" + compression +
+                                                 "': the zip level must be a whole number from 1 to 9");
+    if (dwa && !(number && value > 0))
+        throw Error(Status::InvalidArgument, "EXR compression '" + compression +
+                                                 "': the DWA level must be a number above 0 (default 45)");
 }
 
 }  // namespace
@@ -110,6 +136,7 @@ sf_status sf_sequence_write(sf_sequence sequence, const char* pattern, const sf_
         WriteOptions wo;
         wo.half = pixel_type == SF_PIXEL_HALF;
         wo.compression = o.compression ? o.compression : "zip";
+        check_compression_level(wo.compression);
         wo.color = color_of(o.ocio_config, o.colorspace_in, o.colorspace_out);
         wo.clamp_half = o.half_overflow != 0;
         wo.progress = make_progress(o.progress, o.progress_user);

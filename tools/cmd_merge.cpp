@@ -126,6 +126,7 @@ int cmd_merge(int argc, char** argv) {
     if (args.positionals().size() != 3) throw UsageError("merge takes DENOISED RERENDER OUT (see --help)");
     if (!args.has("crops") && !args.has("mask")) throw UsageError("merge needs --crops, --mask or both");
     const std::string den_pattern = args.positionals()[0], rr_pattern = args.positionals()[1], out_pattern = args.positionals()[2];
+    check_exr_output(out_pattern);
     int64_t feather = 0;
     try {
         size_t used = 0;

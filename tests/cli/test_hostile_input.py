@@ -132,3 +132,25 @@ def test_permission_denied_is_said(small_sequence, tmp_path):
         assert proc.returncode == 1, proc.stderr
     assert "noisy.0002.exr" in proc.stderr and "Permission denied" in proc.stderr, proc.stderr
     assert "not an OpenEXR file" not in proc.stderr
+
+
+@pytest.mark.parametrize("compression, why", [("zip:abc", "zip level"), ("zip:0", "zip level"), ("zip:10", "zip level"),
+                                              ("zips:4.5", "zip level"), ("dwaa:-1", "DWA level"),
+                                              ("piz:3", "piz takes no level"), ("lzma", "unknown EXR compression")])
+def test_bad_compression_is_refused(small_sequence, tmp_path, compression, why):
+    proc = run("copy", small_sequence / "noisy.####.exr", tmp_path / "c.####.exr", "--compression", compression,
+               check_rc=1)
+    assert why in proc.stderr and compression in proc.stderr
+    assert not list(tmp_path.glob("c.*"))
+
+
+def test_compression_levels_in_range_work(small_sequence, tmp_path):
+    for compression in ("zip:9", "zips:1", "dwaa:45", "dwab:200.5"):
+        run("copy", small_sequence / "noisy.####.exr", tmp_path / "c.####.exr", "--compression", compression, "-q")
+
+
+def test_png_output_is_refused(small_sequence, tmp_path):
+    for command in ("copy", "denoise"):
+        proc = run(command, small_sequence / "noisy.####.exr", tmp_path / "o.####.png", check_rc=2)
+        assert "o.####.png" in proc.stderr and "EXR only" in proc.stderr
+    assert not list(tmp_path.glob("o.*"))
