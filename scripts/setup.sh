@@ -8,6 +8,7 @@ APT_PACKAGES=(
   libopencv-dev libopenimageio-dev openimageio-tools libopenexr-dev libopencolorio-dev
   liblapacke-dev libopenblas-dev libgtest-dev abigail-tools
   time  # /usr/bin/time: peak memory in bench/
+  clang libclang-rt-dev  # libFuzzer, for scripts/fuzz.sh
 )
 PY_PACKAGES=(numpy pytest)  # and pyoidn, below
 
