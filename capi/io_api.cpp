@@ -1,4 +1,7 @@
 // sf_pattern_*, sf_sequence_read and sf_sequence_write: files in and out.
+#include <cctype>
+#include <cmath>
+#include <cstdlib>
 #include <cstring>
 
 #include "api_guard.hpp"

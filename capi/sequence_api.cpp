@@ -1,4 +1,5 @@
 // sf_sequence_*: creating, wrapping, inspecting and releasing sequences.
+#include <cstdint>
 #include <cstring>
 
 #include "api_guard.hpp"
@@ -16,6 +17,15 @@ void check_index(int64_t index, int64_t count, const char* what) {
     if (index < 0 || index >= count)
         throw Error(Status::InvalidArgument, std::string(what) + " index " + std::to_string(index) + " is outside [0, " +
                                                  std::to_string(count) + ")");
+}
+
+// A caller's sample memory, checked before anything dereferences it: a reference to a misaligned
+// float is undefined behaviour even before the Sequence's own alignment check could run.
+float* require_samples(float* data, const char* what) {
+    if (!data) throw Error(Status::InvalidArgument, std::string("argument '") + what + "' is NULL");
+    if (reinterpret_cast<uintptr_t>(data) % alignof(float) != 0)
+        throw Error(Status::InvalidArgument, std::string("argument '") + what + "' is not aligned to 4 bytes");
+    return data;
 }
 
 sf_sequence new_handle(std::unique_ptr<Sequence> seq) {
@@ -38,9 +48,8 @@ sf_status sf_sequence_create(sf_shape shape, sf_sequence* out) {
 sf_status sf_sequence_wrap(float* data, sf_shape shape, sf_strides strides, sf_sequence* out) {
     return guarded([&] {
         require(out, "out") = nullptr;
-        require(data, "data");
         *out = new_handle(std::make_unique<Sequence>(
-            data, to_shape(shape), Strides{strides.channel, strides.pixel, strides.row, strides.frame}));
+            require_samples(data, "data"), to_shape(shape), Strides{strides.channel, strides.pixel, strides.row, strides.frame}));
     });
 }
 
@@ -67,7 +76,7 @@ sf_status sf_sequence_data(sf_sequence sequence, float** data, sf_strides* strid
 sf_status sf_sequence_copy_to(sf_sequence sequence, float* dst, sf_strides dst_strides) {
     return guarded([&] {
         Sequence& seq = require_sequence(sequence, "sequence");
-        Sequence target(&require(dst, "dst"), seq.shape(),
+        Sequence target(require_samples(dst, "dst"), seq.shape(),
                         Strides{dst_strides.channel, dst_strides.pixel, dst_strides.row, dst_strides.frame});
         target.copy_samples_from(seq);
     });

@@ -12,6 +12,20 @@ namespace fs = std::filesystem;
 
 namespace statfilter {
 
+namespace {
+
+// Far more digits than any frame number has, and short enough for a file name (NAME_MAX 255).
+constexpr size_t kMaxPadding = 64;
+
+int checked_padding(const std::string& pattern, size_t digits) {
+    if (digits > kMaxPadding)
+        throw Error(Status::InvalidArgument, "pattern '" + pattern + "' pads frame numbers to more than " +
+                                                 std::to_string(kMaxPadding) + " digits");
+    return static_cast<int>(digits);
+}
+
+}  // namespace
+
 FramePattern::FramePattern(const std::string& pattern) : text_(pattern) {
     if (pattern.empty()) throw Error(Status::InvalidArgument, "empty file pattern");
     // Only the file name part may hold the frame token; directories are taken literally.
@@ -21,15 +35,20 @@ FramePattern::FramePattern(const std::string& pattern) : text_(pattern) {
         size_t end = i;
         if (ch == '#' || ch == '@') {
             while (end < pattern.size() && pattern[end] == ch) ++end;
-            const int run = static_cast<int>(end - i);
-            padding_ = (ch == '#' && run == 1) ? 4 : run;
+            const size_t run = end - i;
+            padding_ = (ch == '#' && run == 1) ? 4 : checked_padding(pattern, run);
         } else if (ch == '%') {
             end = i + 1;
             std::string digits;
             while (end < pattern.size() && std::isdigit(static_cast<unsigned char>(pattern[end]))) digits += pattern[end++];
             if (end >= pattern.size() || pattern[end] != 'd') continue;
             ++end;
-            padding_ = digits.empty() ? 0 : std::stoi(digits);
+            // Leading zeros are the printf flag, not part of the width ("%040d" is 40 digits).
+            const size_t first = std::min(digits.find_first_not_of('0'), digits.size());
+            padding_ = first == digits.size()
+                           ? 0
+                           : checked_padding(pattern, digits.size() - first > 3 ? kMaxPadding + 1
+                                                                               : std::stoul(digits.substr(first)));
         } else {
             continue;
         }
@@ -44,7 +63,8 @@ FramePattern::FramePattern(const std::string& pattern) : text_(pattern) {
 
 std::string FramePattern::format(int64_t frame) const {
     if (!has_token_) return text_;
-    char digits[32];
+    // Sized for the padding (at most kMaxPadding) plus a sign and 19 digits: never truncated.
+    char digits[kMaxPadding + 24];
     std::snprintf(digits, sizeof digits, "%0*lld", padding_, static_cast<long long>(frame));
     return prefix_ + digits + suffix_;
 }
@@ -68,9 +88,12 @@ std::vector<int64_t> FramePattern::scan() const {
         if (name.compare(name.size() - suffix_.size(), suffix_.size(), suffix_) != 0) continue;
         const std::string middle = name.substr(stem.size(), name.size() - stem.size() - suffix_.size());
         size_t i = (middle[0] == '-') ? 1 : 0;
-        if (i == middle.size() || middle.size() - i > 18) continue;
+        if (i == middle.size()) continue;
         if (!std::all_of(middle.begin() + i, middle.end(), [](char c) { return std::isdigit(static_cast<unsigned char>(c)); }))
             continue;
+        // Padding zeros may be many; the number itself must fit in 18 digits.
+        const size_t significant = middle.find_first_not_of('0', i);
+        if (significant != std::string::npos && middle.size() - significant > 18) continue;
         const int64_t number = std::stoll(middle);
         if (format(number) == prefix_ + middle + suffix_) frames.insert(number);  // padding must match exactly
     }

@@ -142,8 +142,9 @@ int64_t merge_rerender(const Sequence& denoised, const Sequence& rerender, const
         for (int y = 0; y < H; ++y)
             for (int x = 0; x < W; ++x) {
                 if (!region.at<uint8_t>(y, x)) continue;
+                // feather + 1 in float: any feather, up to INT64_MAX, is a weight, never an overflow.
                 const float w = o.feather > 0
-                                    ? std::min(1.0f, distance.at<float>(y, x) / static_cast<float>(o.feather + 1))
+                                    ? std::min(1.0f, distance.at<float>(y, x) / (static_cast<float>(o.feather) + 1.0f))
                                     : 1.0f;
                 for (int64_t c = 0; c < s.channels; ++c) {
                     const float d = denoised.at(f, y, x, c), v = rerender.at(r, y, x, c);

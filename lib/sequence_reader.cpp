@@ -2,7 +2,14 @@
 // every frame straight into the sequence's memory, checking each file has the same layout.
 #include <OpenImageIO/imageio.h>
 
-#include <filesystem>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstring>
+#include <fstream>
+#include <limits>
+#include <sstream>
 
 #include "pipeline/frame_source.hpp"
 #include "statfilter/color_convert.hpp"
@@ -31,9 +38,30 @@ struct FileLayout {
     std::vector<OIIO::ImageSpec> specs;  // one per subimage
 };
 
+const char* file_kind(mode_t mode) {
+    if (S_ISDIR(mode)) return "a directory";
+    if (S_ISFIFO(mode)) return "a FIFO";
+    if (S_ISCHR(mode)) return "a character device";
+    if (S_ISBLK(mode)) return "a block device";
+    if (S_ISSOCK(mode)) return "a socket";
+    return "not a regular file";
+}
+
+// Only a readable regular file is a frame: a FIFO or a device (say a symlink to /dev/zero) would
+// block or never end, and an unreadable file is said to be one, not "not an image".
+void check_frame_file(const std::string& path) {
+    struct stat st {};
+    if (::stat(path.c_str(), &st) != 0) {
+        if (errno == ENOENT || errno == ENOTDIR) throw Error(Status::NotFound, "missing frame: '" + path + "' does not exist");
+        throw Error(Status::Io, "cannot read '" + path + "': " + std::strerror(errno));
+    }
+    if (!S_ISREG(st.st_mode))
+        throw Error(Status::Io, "cannot read '" + path + "': it is " + file_kind(st.st_mode) + ", not a regular file");
+    if (::access(path.c_str(), R_OK) != 0) throw Error(Status::Io, "cannot read '" + path + "': " + std::strerror(errno));
+}
+
 std::unique_ptr<OIIO::ImageInput> open_image(const std::string& path) {
-    std::error_code ec;
-    if (!std::filesystem::exists(path, ec)) throw Error(Status::NotFound, "missing frame: '" + path + "' does not exist");
+    check_frame_file(path);
     auto in = OIIO::ImageInput::open(path);
     if (!in) {
         std::string why = OIIO::geterror();
@@ -76,9 +104,15 @@ std::vector<Selected> select_channels(const FileLayout& layout, const std::strin
     std::vector<Selected> out;
     if (request.empty()) {
         for (const auto& ch : layout.channels) out.push_back({ch, ch.name});
+        if (out.empty()) throw Error(Status::Io, "cannot read '" + path + "': the file has no channels");
         return out;
     }
-    for (const std::string& item : split_list(request)) {
+    const std::vector<std::string> items = split_list(request);
+    if (items.empty())
+        throw Error(Status::InvalidArgument, "the channel list '" + request +
+                                                 "' names no channel or layer (give names such as R,G,B, or leave it "
+                                                 "empty for every channel)");
+    for (const std::string& item : items) {
         bool found = false;
         for (const auto& ch : layout.channels)
             if (ch.name == item) {
@@ -129,6 +163,58 @@ std::vector<int64_t> resolve_frames(const FramePattern& pattern, const std::stri
     return frames;
 }
 
+// Frames asked for by number must all be there, reported together, before anything is allocated.
+void check_frames_exist(const FramePattern& pattern, const std::vector<int64_t>& frames) {
+    std::vector<int64_t> missing, found;
+    for (int64_t f : frames) {
+        struct stat st {};
+        if (::stat(pattern.format(f).c_str(), &st) != 0 && (errno == ENOENT || errno == ENOTDIR))
+            missing.push_back(f);
+        else
+            found.push_back(f);
+    }
+    if (!missing.empty())
+        throw Error(Status::NotFound, "sequence '" + pattern.text() + "': frames " + format_frame_list(missing) +
+                                          " are missing (found " + (found.empty() ? "none" : format_frame_list(found)) +
+                                          "; the first missing is '" + pattern.format(missing.front()) + "')");
+}
+
+// Bytes this process may still allocate: the kernel's MemAvailable, within a cgroup's limit.
+uint64_t available_memory() {
+    uint64_t available = std::numeric_limits<uint64_t>::max();
+    std::ifstream meminfo("/proc/meminfo");
+    for (std::string line; std::getline(meminfo, line);)
+        if (line.rfind("MemAvailable:", 0) == 0) {
+            std::istringstream in(line.substr(13));
+            uint64_t kb = 0;
+            if (in >> kb) available = kb * 1024;
+        }
+    std::ifstream max_file("/sys/fs/cgroup/memory.max"), current_file("/sys/fs/cgroup/memory.current");
+    uint64_t limit = 0, current = 0;
+    if (max_file >> limit && current_file >> current) available = std::min(available, limit > current ? limit - current : 0);
+    return available;
+}
+
+std::string gigabytes(uint64_t bytes) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%.1f GB", static_cast<double>(bytes) / 1e9);
+    return text;
+}
+
+// A typo such as --frames 1-20000 must not take the machine's memory: refuse what cannot fit.
+void check_fits_in_memory(const Shape& shape, const std::string& pattern) {
+    const uint64_t needed = static_cast<uint64_t>(shape.frames) * static_cast<uint64_t>(shape.pixels()) *
+                            static_cast<uint64_t>(shape.channels) * sizeof(float);
+    const uint64_t available = available_memory();
+    if (needed > available)
+        throw Error(Status::OutOfMemory,
+                    "sequence '" + pattern + "': " + std::to_string(shape.frames) + " frames of " +
+                        std::to_string(shape.width) + " x " + std::to_string(shape.height) + " x " +
+                        std::to_string(shape.channels) + " float channels need " + std::to_string(needed) + " bytes (" +
+                        gigabytes(needed) + "), more than the " + gigabytes(available) +
+                        " of memory available: read fewer frames (--frames) or channels");
+}
+
 OIIO::ParamValueList frame_metadata(const OIIO::ImageSpec& spec) {
     OIIO::ParamValueList out;
     for (const auto& p : spec.extra_attribs) {
@@ -173,6 +259,7 @@ void read_frame(const std::string& path, const std::vector<Selected>& selection,
 std::unique_ptr<Sequence> read_sequence(const std::string& pattern_text, const ReadOptions& options) {
     const FramePattern pattern(pattern_text);
     const std::vector<int64_t> frames = resolve_frames(pattern, options.frames);
+    if (!options.frames.empty()) check_frames_exist(pattern, frames);
 
     const std::string first_path = pattern.format(frames.front());
     FileLayout first;
@@ -187,6 +274,7 @@ std::unique_ptr<Sequence> read_sequence(const std::string& pattern_text, const R
     shape.height = first.specs[selection.front().source.subimage].height;
     shape.channels = static_cast<int64_t>(selection.size());
     validate_shape(shape);
+    check_fits_in_memory(shape, pattern_text);
     check_color_conversion(options.color, shape.channels);
 
     auto seq = std::make_unique<Sequence>(shape);

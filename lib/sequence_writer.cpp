@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -28,11 +29,34 @@ namespace {
 
 constexpr float kHalfMax = 65504.0f;
 
+// The level after "name:" (the writer checks the name): a whole number 1-9 for zip and zips, a
+// number > 0 for dwaa and dwab, none for the others. OpenEXR would otherwise ignore it silently.
+void check_compression_level(const std::string& compression) {
+    const size_t colon = compression.find(':');
+    if (colon == std::string::npos) return;
+    const std::string name = compression.substr(0, colon), level = compression.substr(colon + 1);
+    const bool zip = name == "zip" || name == "zips", dwa = name == "dwaa" || name == "dwab";
+    if (!zip && !dwa)
+        throw Error(Status::InvalidArgument, "EXR compression '" + compression + "': " + name +
+                                                 " takes no level (only zip, zips, dwaa and dwab do)");
+    char* end = nullptr;
+    const double value = level.empty() || std::isspace(static_cast<unsigned char>(level[0]))
+                             ? 0.0
+                             : std::strtod(level.c_str(), &end);
+    const bool number = end && *end == '\0' && std::isfinite(value);
+    if (zip && !(number && value == std::floor(value) && value >= 1 && value <= 9))
+        throw Error(Status::InvalidArgument, "EXR compression '" + compression +
+                                                 "': the zip level must be a whole number from 1 to 9");
+    if (dwa && !(number && value > 0))
+        throw Error(Status::InvalidArgument, "EXR compression '" + compression +
+                                                 "': the DWA level must be a number above 0 (default 45)");
+}
+
 void check_compression(const std::string& compression) {
     static const char* known[] = {"none", "rle", "zips", "zip", "piz", "pxr24", "b44", "b44a", "dwaa", "dwab"};
     const std::string base = compression.substr(0, compression.find(':'));
     for (const char* k : known)
-        if (base == k) return;
+        if (base == k) return check_compression_level(compression);
     throw Error(Status::InvalidArgument, "unknown EXR compression '" + compression +
                                              "' (none, rle, zips, zip, piz, pxr24, b44, b44a, dwaa, dwab)");
 }

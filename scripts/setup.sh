@@ -9,6 +9,7 @@ APT_PACKAGES=(
   liblapacke-dev libopenblas-dev libgtest-dev abigail-tools
   python3-venv  # scripts/test_wheel.sh: the wheel tested in a fresh venv
   time  # /usr/bin/time: peak memory in bench/
+  clang libclang-rt-dev  # libFuzzer, for scripts/fuzz.sh
 )
 PY_PACKAGES=(numpy pytest jsonschema)  # and pyoidn, below; jsonschema: tests/cli/test_crops_schema.py
 

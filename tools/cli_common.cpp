@@ -1,5 +1,7 @@
 #include "cli_common.hpp"
 
+#include <cctype>
+
 namespace statfilter_cli {
 
 void check(sf_status status) {
@@ -74,7 +76,18 @@ void read_input(const Args& args, const std::string& pattern, ProgressLine& prog
     check(sf_sequence_read(pattern.c_str(), &io.read, out.out()));
 }
 
+void check_exr_output(const std::string& pattern) {
+    const std::string ext = pattern.size() >= 4 ? pattern.substr(pattern.size() - 4) : "";
+    std::string lower;
+    for (char c : ext) lower += static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    if (lower != ".exr")
+        throw UsageError("output '" + pattern + "' is not an .exr file: frames are written as EXR only (another "
+                         "format would lose the HDR values); false-colour PNG previews are what --save and the "
+                         "--*-preview options write");
+}
+
 void write_output(const Args& args, const SequenceHandle& seq, const std::string& pattern, ProgressLine& progress) {
+    check_exr_output(pattern);
     IoSettings io(args);
     io.write.progress = &ProgressLine::callback;
     io.write.progress_user = &progress;

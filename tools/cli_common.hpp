@@ -69,6 +69,9 @@ private:
 };
 
 void read_input(const Args& args, const std::string& pattern, ProgressLine& progress, SequenceHandle& out);
+// Sequences are written as EXR: any other extension is a usage error (checked by write_output; call
+// it before the work too, so a typo fails at once).
+void check_exr_output(const std::string& pattern);
 void write_output(const Args& args, const SequenceHandle& seq, const std::string& pattern, ProgressLine& progress);
 
 std::set<std::string> merged(std::initializer_list<std::set<std::string>> sets);

@@ -65,6 +65,7 @@ sf_run_options run_options(const Args& args) {
 int run_filter(const Args& args, const std::string& method) {
     if (args.positionals().size() != 2) throw UsageError("expected IN and OUT patterns (see --help)");
     const std::string in = args.positionals()[0], out = args.positionals()[1];
+    check_exr_output(out);
     const auto saves = parse_save_list(args.option("save"));  // checked before any work
     sf_run_options run = run_options(args);
     FilterHandle filter(method);

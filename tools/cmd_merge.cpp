@@ -126,6 +126,7 @@ int cmd_merge(int argc, char** argv) {
     if (args.positionals().size() != 3) throw UsageError("merge takes DENOISED RERENDER OUT (see --help)");
     if (!args.has("crops") && !args.has("mask")) throw UsageError("merge needs --crops, --mask or both");
     const std::string den_pattern = args.positionals()[0], rr_pattern = args.positionals()[1], out_pattern = args.positionals()[2];
+    check_exr_output(out_pattern);
     int64_t feather = 0;
     try {
         size_t used = 0;
@@ -138,14 +139,20 @@ int cmd_merge(int argc, char** argv) {
     ProgressLine progress(args.flag("quiet") || args.flag("json"));
     std::string crops;
     std::vector<sf_crop_window> windows;
+    int64_t crops_width = 0, crops_height = 0;
     if (args.has("crops")) {
         crops = read_text_file(args.option("crops"));
-        int64_t width = 0, height = 0;
-        windows = windows_of(crops, width, height);
+        windows = windows_of(crops, crops_width, crops_height);
     }
     SequenceHandle denoised, mask, rerender, output;
     read_input(args, den_pattern, progress, denoised);
     const sf_shape shape = denoised.shape();
+    // The windows lie inside the frame size the JSON declares: it must be the sequence's before any
+    // window is pasted into frames of the sequence's size.
+    if (args.has("crops") && (crops_width != shape.width || crops_height != shape.height))
+        throw Failure("'" + args.option("crops") + "': the crop windows are for " + std::to_string(crops_width) +
+                      " x " + std::to_string(crops_height) + " frames; the denoised frames are " +
+                      std::to_string(shape.width) + " x " + std::to_string(shape.height));
     if (args.has("mask")) {
         const std::string frame_list = args.option("frames");  // outlives the read, as the options need
         const sf_read_options o = plain_read_options("", frame_list, progress);

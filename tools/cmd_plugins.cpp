@@ -61,12 +61,22 @@ int cmd_plugins(int argc, char** argv) {
         sf_filter_info info;
         sf_filter_info_init(&info);
         check(sf_filter_info_at(i, &info));
-        const std::vector<Param> params = info.available ? params_of(info.name) : std::vector<Param>{};
+        std::vector<Param> params;
+        std::string problem = info.problem;
+        // A filter that loaded but cannot make an instance now is listed as unavailable, not fatal.
+        if (info.available) {
+            try {
+                params = params_of(info.name);
+            } catch (const Failure& e) {
+                info.available = 0;
+                problem = e.what();
+            }
+        }
         if (json) {
             j += std::string(i ? "," : "") + "\n  {\"name\": " + json_string(info.name) + ", \"kind\": " +
                  json_string(kind_name(info.kind)) + ", \"version\": " + json_string(info.version) +
                  ", \"origin\": " + json_string(info.origin) + ", \"available\": " +
-                 (info.available ? "true" : "false") + ", \"problem\": " + json_string(info.problem) +
+                 (info.available ? "true" : "false") + ", \"problem\": " + json_string(problem) +
                  ", \"description\": " + json_string(info.description) + ", \"parameters\": [";
             for (size_t p = 0; p < params.size(); ++p)
                 j += std::string(p ? ", " : "") + "{\"name\": " + json_string(params[p].name) + ", \"type\": " +
@@ -80,7 +90,7 @@ int cmd_plugins(int argc, char** argv) {
         const char* kind = info.available || *info.version ? kind_name(info.kind) : "-";
         std::printf("%-16s %-12s %-8s %s\n", info.name, kind, *info.version ? info.version : "-", info.origin);
         if (*info.description) std::printf("    %s\n", info.description);
-        if (!info.available) std::printf("    UNAVAILABLE: %s\n", info.problem);
+        if (!info.available) std::printf("    UNAVAILABLE: %s\n", problem.c_str());
         for (const Param& p : params) {
             std::string detail = p.type;
             if (!p.choices.empty()) detail += ": " + p.choices;

@@ -1,6 +1,7 @@
 #include "plugins/plugin_filter.hpp"
 
 #include <cstdio>
+#include <cstring>
 
 #include "statfilter/error.hpp"
 
@@ -11,6 +12,8 @@ Status plugin_status(sf_status status) {
     if (s >= static_cast<int>(Status::InvalidArgument) && s <= static_cast<int>(Status::Internal)) return static_cast<Status>(s);
     return Status::Internal;
 }
+
+std::string plugin_message(const char* buffer, size_t size) { return std::string(buffer, strnlen(buffer, size)); }
 
 namespace {
 
@@ -47,7 +50,7 @@ public:
         const sf_status status = plugin_->create(&instance, message, sizeof message);
         if (status != SF_OK || !instance) {
             if (status == SF_OK && instance == nullptr) std::snprintf(message, sizeof message, "create returned no instance");
-            fail(status == SF_OK ? SF_ERROR_INTERNAL : status, message);
+            fail(status == SF_OK ? SF_ERROR_INTERNAL : status, plugin_message(message, sizeof message));
         }
         instance_ = instance;
     }
@@ -60,7 +63,7 @@ protected:
         for (const ParamSpec& spec : params().specs()) {
             const std::string& value = params().get_string(spec.name);
             const sf_status status = plugin_->set_param(instance_, spec.name.c_str(), value.c_str(), message, sizeof message);
-            if (status != SF_OK) fail(status, "parameter '" + spec.name + "' = '" + value + "': " + terminated(message));
+            if (status != SF_OK) fail(status, "parameter '" + spec.name + "' = '" + value + "': " + plugin_message(message, sizeof message));
         }
 
         const Shape& shape = input.shape();
@@ -83,15 +86,10 @@ protected:
 
         const sf_status status = plugin_->execute(instance_, &run, message, sizeof message);
         if (bridge.cancelled) throw Error(Status::Cancelled, "cancelled during " + bridge.stage);
-        if (status != SF_OK) fail(status, terminated(message));
+        if (status != SF_OK) fail(status, plugin_message(message, sizeof message));
     }
 
 private:
-    static std::string terminated(char* message) {
-        message[kMessageSize - 1] = '\0';
-        return message;
-    }
-
     // The plugin's message, prefixed with its name unless it already starts with it.
     [[noreturn]] void fail(sf_status status, std::string message) const {
         const std::string name = plugin_->name;

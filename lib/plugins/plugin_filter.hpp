@@ -15,4 +15,8 @@ std::unique_ptr<Filter> make_plugin_filter(const sf_plugin* plugin, const std::s
 // A status code from a plugin as the core's Status (anything unknown is Internal).
 Status plugin_status(sf_status status);
 
+// The message a plugin wrote into a host buffer of `size` bytes, read no further than the buffer
+// even when the plugin did not terminate it.
+std::string plugin_message(const char* buffer, size_t size);
+
 }  // namespace statfilter

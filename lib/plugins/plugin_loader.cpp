@@ -99,10 +99,16 @@ FilterEntry load_plugin(const std::string& path, const std::string& expected_nam
     if (plugin->probe) {
         char message[2048] = "";
         const sf_status status = plugin->probe(message, sizeof message);
-        message[sizeof message - 1] = '\0';
         if (status != SF_OK)
             return unusable(entry, plugin_status(status),
-                            expected_name + " (" + path + ") cannot run here: " + std::string(message));
+                            expected_name + " (" + path + ") cannot run here: " + plugin_message(message, sizeof message));
+    }
+    // One instance made and released: a plugin that cannot create one here (no device, no licence)
+    // is listed as unavailable with its reason, instead of failing whoever lists or describes filters.
+    try {
+        make_plugin_filter(plugin, path, specs);
+    } catch (const Error& e) {
+        return unusable(entry, e.status(), expected_name + " (" + path + ") cannot create a filter here: " + e.what());
     }
     entry.create = [plugin, path, specs]() { return make_plugin_filter(plugin, path, specs); };
     return entry;

@@ -2,19 +2,37 @@
 
 The plugin (C) reads ``$STATFILTER_OIDN_LIBRARY``. When that is unset and ``pyoidn`` is installed
 in this Python, it is set to the library inside that package before the plugin is first loaded.
-``pyoidn`` is located without being imported.
+``pyoidn`` is located without being imported, and only among the installed packages (the
+site-packages directories): a ``pyoidn`` folder in the working directory or on ``sys.path`` is
+never taken, so whoever controls the working directory cannot choose the library that is loaded.
 """
 
-import importlib.util
+import importlib.machinery
 import os
+import site
+import sysconfig
 
 ENV_VAR = "STATFILTER_OIDN_LIBRARY"
 
 
+def _site_directories():
+    """The directories packages are installed into, for this interpreter (or its venv)."""
+    dirs = [sysconfig.get_paths().get(key) for key in ("purelib", "platlib")]
+    dirs += getattr(site, "getsitepackages", lambda: [])()
+    if site.ENABLE_USER_SITE:
+        dirs.append(site.getusersitepackages())
+    seen, out = set(), []
+    for d in dirs:
+        if d and os.path.isabs(d) and d not in seen:
+            seen.add(d)
+            out.append(d)
+    return out
+
+
 def pyoidn_library():
-    """Path of pyoidn's bundled libOpenImageDenoise.so.2, or None."""
+    """Path of the installed pyoidn's bundled libOpenImageDenoise.so.2, or None."""
     try:
-        spec = importlib.util.find_spec("pyoidn")
+        spec = importlib.machinery.PathFinder.find_spec("pyoidn", _site_directories())
     except (ImportError, ValueError):
         return None
     if spec is None or not spec.origin:

@@ -7,6 +7,9 @@ work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 cmake --install "$build_dir" --prefix "$work/prefix" >/dev/null
 libdir=$(ls -d "$work"/prefix/lib*/ | head -n1)
+# The installed tool, library and plugin search no directory relative to the working directory.
+bash "$source_dir/check_runpath.sh" "$work/prefix/bin/statfilter" "$libdir"libstatfilter.so.0 "$libdir"statfilter_oidn.so >/dev/null
+"$work/prefix/bin/statfilter" version >/dev/null  # finds its library through $ORIGIN alone
 export LD_LIBRARY_PATH="$libdir${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH}"
 
 cmake -S "$source_dir/project" -B "$work/cmake-build" -DCMAKE_PREFIX_PATH="$work/prefix" >/dev/null

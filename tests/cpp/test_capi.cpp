@@ -200,6 +200,19 @@ TEST(CapiStrides, MisalignedOrNegativeStridesRejected) {
     }
 }
 
+// Checked before the library touches the pointer (UBSan: no reference bound to a misaligned float).
+TEST(CapiStrides, MisalignedDataRejected) {
+    std::vector<float> buffer(static_cast<size_t>(sample_count(kShape)) + 1);
+    float* misaligned = reinterpret_cast<float*>(reinterpret_cast<char*>(buffer.data()) + 1);
+    sf_sequence out = nullptr;
+    expect_failure(sf_sequence_wrap(misaligned, kShape, contiguous(kShape), &out), SF_ERROR_INVALID_ARGUMENT,
+                   {"'data'", "aligned"}, "wrap");
+    EXPECT_EQ(out, nullptr);
+    Seq seq = filled_sequence(kShape);
+    expect_failure(sf_sequence_copy_to(seq.get(), misaligned, contiguous(kShape)), SF_ERROR_INVALID_ARGUMENT,
+                   {"'dst'", "aligned"}, "copy_to");
+}
+
 // ---- names and numbers -----------------------------------------------------------------------
 
 TEST(CapiSequence, ChannelNamesAndFrameNumbers) {

@@ -67,6 +67,37 @@ TEST(FramePattern, RejectsEmptyAndDoubleTokens) {
     EXPECT_THROW(FramePattern("a.####.@@.exr"), Error);
 }
 
+// Wide padding is written in full (no fixed-size buffer truncates it) and found again by a scan;
+// an absurd width is a clear error, never an exception from std::stoi.
+TEST(FramePattern, WidePaddingIsNeverTruncated) {
+    const FramePattern p("o.%040d.exr");
+    EXPECT_EQ(p.padding(), 40);
+    EXPECT_EQ(p.format(7), "o." + std::string(39, '0') + "7.exr");
+    EXPECT_NE(p.format(1), p.format(2));
+    EXPECT_EQ(FramePattern("o.%064d.exr").format(-3), "o.-" + std::string(62, '0') + "3.exr");
+    TempDir dir;
+    const FramePattern in_dir(dir.file("o.%040d.exr"));
+    write_text_file(in_dir.format(1), "");
+    write_text_file(in_dir.format(123456789012345678), "");
+    EXPECT_EQ(in_dir.scan(), (std::vector<int64_t>{1, 123456789012345678}));
+}
+
+TEST(FramePattern, AbsurdPaddingIsRefused) {
+    const std::vector<std::string> patterns = {"a.%99999999999d.exr", "a.%65d.exr", "a.%0100d.exr",
+                                               "a." + std::string(65, '#') + ".exr", "a." + std::string(1000, '@') + ".exr"};
+    for (const std::string& pattern : patterns) {
+        try {
+            FramePattern p(pattern);
+            ADD_FAILURE() << pattern << " was accepted";
+        } catch (const Error& e) {
+            EXPECT_EQ(e.status(), Status::InvalidArgument);
+            EXPECT_NE(std::string(e.what()).find("more than 64 digits"), std::string::npos) << e.what();
+        }
+    }
+    EXPECT_EQ(FramePattern("a.%064d.exr").padding(), 64);
+    EXPECT_EQ(FramePattern("a.%0000d.exr").padding(), 0);
+}
+
 TEST(FramePatternScan, OnlyTheMatchingPaddingIsFound) {
     TempDir dir;
     touch(dir, {"a.0001.exr", "a.0002.exr", "a.1.exr", "a.3.exr", "a.03.exr", "a.0004.exr.bak", "b.0005.exr",

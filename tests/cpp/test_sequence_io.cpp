@@ -4,6 +4,8 @@
 
 #include <Imath/half.h>
 
+#include <sys/stat.h>
+
 #include <cmath>
 #include <limits>
 
@@ -176,6 +178,49 @@ TEST(SequenceIO, SingleFramePatternWithoutToken) {
     auto back = read_sequence(dir.file("still.exr"), ReadOptions());
     EXPECT_EQ(back->shape(), seq.shape());
     EXPECT_EQ(back->at(0, 1, 1, 0), 4.5f);
+}
+
+TEST(SequenceIO, ChannelListNamingNothingIsRefused) {
+    TempDir dir;
+    write_sequence(*make_sequence(), dir.file("c.####.exr"), float_options());
+    for (const char* list : {",", " ", ",,,", " , ,"}) {
+        ReadOptions o;
+        o.channels = list;
+        const auto [status, message] = error_of([&] { read_sequence(dir.file("c.####.exr"), o); });
+        EXPECT_EQ(status, Status::InvalidArgument) << list;
+        EXPECT_NE(message.find("names no channel"), std::string::npos) << message;
+    }
+}
+
+// Frames asked for by number are all checked before any memory is taken, and reported together.
+TEST(SequenceIO, MissingExplicitFramesAreReportedBeforeReading) {
+    TempDir dir;
+    write_sequence(*make_sequence(), dir.file("c.####.exr"), float_options());
+    ReadOptions o;
+    o.frames = "101-20000";
+    const auto [status, message] = error_of([&] { read_sequence(dir.file("c.####.exr"), o); });
+    EXPECT_EQ(status, Status::NotFound);
+    EXPECT_NE(message.find("frames 104-20000 are missing (found 101-103; the first missing is '" +
+                           dir.file("c.0104.exr") + "')"),
+              std::string::npos)
+        << message;
+}
+
+// Only regular files are frames: a FIFO would block the reader forever, a device never end.
+TEST(SequenceIO, FifoAndDevicesAreNotFrames) {
+    TempDir dir;
+    write_sequence(*make_sequence(), dir.file("c.####.exr"), float_options());
+    ASSERT_EQ(::mkfifo(dir.file("c.0104.exr").c_str(), 0600), 0);
+    fs::create_symlink("/dev/zero", dir.file("c.0105.exr"));
+    const std::vector<std::pair<std::string, std::string>> cases = {{"101-104", "a FIFO"}, {"105", "a character device"}};
+    for (const auto& [frames, kind] : cases) {
+        ReadOptions o;
+        o.frames = frames;
+        const auto [status, message] = error_of([&] { read_sequence(dir.file("c.####.exr"), o); });
+        EXPECT_EQ(status, Status::Io) << frames;
+        EXPECT_NE(message.find(kind), std::string::npos) << message;
+        EXPECT_NE(message.find("not a regular file"), std::string::npos) << message;
+    }
 }
 
 // A Blender-like multi-part sequence: the beauty in part 0, the indirect light in part 1.

@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 
 #include "statfilter/crop_windows.hpp"
 #include "statfilter/error.hpp"
@@ -205,6 +206,24 @@ TEST(Merge, SplicesWindowsAndLeavesEverythingElse) {
                 for (int64_t c = 0; c < 2; ++c)
                     ASSERT_EQ(out.at(f, y, x, c), inside ? rr->at(f, y, x, c) : den->at(f, y, x, c));
             }
+}
+
+// Any feather is a weight: the largest (UBSan: no signed overflow) gives the re-render almost none.
+TEST(Merge, HugeFeatherIsAWeightNotAnOverflow) {
+    const Shape s{1, 20, 20, 1};
+    auto den = filled(s, 0.0f);
+    auto rr = filled(s, 1.0f);
+    Sequence mask(Shape{1, 20, 20, 1});
+    for (int64_t y = 5; y < 15; ++y)
+        for (int64_t x = 5; x < 15; ++x) mask.at(0, y, x, 0) = 1;
+    Sequence out(s);
+    MergeOptions o;
+    o.mask = &mask;
+    o.feather = std::numeric_limits<int64_t>::max();
+    EXPECT_EQ(merge_rerender(*den, *rr, o, out, Progress()), 100);
+    EXPECT_EQ(out.at(0, 4, 10, 0), 0.0f);
+    EXPECT_GT(out.at(0, 10, 10, 0), 0.0f);
+    EXPECT_LT(out.at(0, 10, 10, 0), 1e-12f);
 }
 
 TEST(Merge, MaskRestrictsAndFeatherBlendsInsideTheEdge) {

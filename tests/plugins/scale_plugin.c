@@ -1,7 +1,9 @@
 /* A tiny single-frame plugin for the tests: out = factor * in + offset, written in plain C99 against
  * the public header only. Compile definitions turn it into the broken plugins the loader must
  * reject: TEST_BAD_ABI (declares another plugin ABI version), TEST_NO_ENTRY (exports no
- * sf_plugin_entry), TEST_WRONG_NAME (declares a name its file name does not carry). */
+ * sf_plugin_entry), TEST_WRONG_NAME (declares a name its file name does not carry), TEST_CREATE_FAILS
+ * (create fails cleanly, as without a GPU), TEST_UNTERMINATED (create fails and fills the host's
+ * whole message buffer without a terminating NUL). */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -14,6 +16,15 @@ typedef struct scale_state {
 } scale_state;
 
 static sf_status create(void** instance, char* error, size_t size) {
+#if defined(TEST_CREATE_FAILS)
+    (void)instance;
+    snprintf(error, size, "no GPU device available");
+    return SF_ERROR_UNSUPPORTED;
+#elif defined(TEST_UNTERMINATED)
+    (void)instance;
+    memset(error, 'x', size);
+    return SF_ERROR_UNSUPPORTED;
+#endif
     scale_state* s = calloc(1, sizeof *s);
     if (!s) {
         snprintf(error, size, "out of memory");
@@ -74,6 +85,10 @@ static const sf_param_info params[] = {
 #endif
 #if defined(TEST_WRONG_NAME)
 #  define NAME "another-name"
+#elif defined(TEST_CREATE_FAILS)
+#  define NAME "nodevice"
+#elif defined(TEST_UNTERMINATED)
+#  define NAME "unterminated"
 #else
 #  define NAME "scale"
 #endif

@@ -62,6 +62,15 @@ def test_cli_plugins_lists_everything():
     assert run_cli("plugins", "extra", check_rc=2).returncode == 2
 
 
+def test_cli_lists_a_plugin_whose_create_fails_as_unavailable():
+    listed = {p["name"]: p for p in json.loads(run_cli("plugins", "--json").stdout)}
+    assert listed["nodevice"]["available"] is False
+    assert "no GPU device available" in listed["nodevice"]["problem"]
+    assert "no GPU device available" in run_cli("plugins").stdout
+    text = run_cli("denoise", "--help").stdout
+    assert "scale:" in text and "nodevice" not in text
+
+
 def test_cli_prefilter_option(tmp_path):
     noisy = SAMPLE / "cornell_moving" / "spp0004" / "indirect.####.exr"
     a, b, c = (tmp_path / d for d in "abc")

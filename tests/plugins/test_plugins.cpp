@@ -120,6 +120,28 @@ TEST(Plugins, NameMustMatchTheFile) {
                    {"statfilter_misnamed.so", "declares filter 'another-name'"});
 }
 
+TEST(Plugins, CreateThatFailsCleanlyIsListedUnavailable) {
+    const sf_filter_info info = info_of("nodevice");
+    EXPECT_EQ(info.available, 0);
+    EXPECT_NE(std::string(info.problem).find("no GPU device available"), std::string::npos) << info.problem;
+    EXPECT_NE(std::string(info.problem).find("statfilter_nodevice.so"), std::string::npos) << info.problem;
+    EXPECT_FALSE(contains(available_names(), "nodevice"));
+    sf_filter f = nullptr;
+    expect_failure(sf_filter_create("nodevice", &f), SF_ERROR_UNSUPPORTED, {"no GPU device available"});
+    EXPECT_EQ(f, nullptr);
+}
+
+// The message is read no further than the host's buffer (ASan: no stack-buffer-overflow).
+TEST(Plugins, UnterminatedMessageIsCutAtTheBuffer) {
+    const sf_filter_info info = info_of("unterminated");
+    EXPECT_EQ(info.available, 0);
+    const std::string problem = info.problem;
+    EXPECT_NE(problem.find(std::string(100, 'x')), std::string::npos);
+    EXPECT_LT(problem.size(), 4096u + 300u) << "read past the plugin's buffer";
+    sf_filter f = nullptr;
+    expect_failure(sf_filter_create("unterminated", &f), SF_ERROR_UNSUPPORTED, {"xxxx"});
+}
+
 TEST(Plugins, UnknownNameSaysWhereItLooked) {
     sf_filter f = nullptr;
     expect_failure(sf_filter_create("no-such-plugin", &f), SF_ERROR_NOT_FOUND,
