@@ -6,6 +6,7 @@
 #include <new>
 
 #include "statfilter/error.hpp"
+#include "statfilter/frame_metadata.hpp"
 
 namespace statfilter {
 
@@ -64,12 +65,14 @@ Sequence::Sequence(float* data, const Shape& shape, const Strides& strides) : sh
     init_attributes();
 }
 
+Sequence::~Sequence() = default;
+
 void Sequence::init_attributes() {
     channel_names_.clear();
     for (int64_t c = 0; c < shape_.channels; ++c) channel_names_.push_back("C" + std::to_string(c));
     frame_numbers_.resize(shape_.frames);
     for (int64_t f = 0; f < shape_.frames; ++f) frame_numbers_[f] = f + 1;
-    metadata_.assign(shape_.frames, OIIO::ParamValueList());
+    metadata_.assign(static_cast<size_t>(shape_.frames), FrameMetadata());
 }
 
 bool Sequence::is_contiguous() const {

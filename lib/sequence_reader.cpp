@@ -14,6 +14,7 @@
 #include "pipeline/frame_source.hpp"
 #include "statfilter/color_convert.hpp"
 #include "statfilter/error.hpp"
+#include "statfilter/frame_metadata.hpp"
 #include "statfilter/frame_pattern.hpp"
 #include "statfilter/sequence_io.hpp"
 
@@ -215,8 +216,8 @@ void check_fits_in_memory(const Shape& shape, const std::string& pattern) {
                         " of memory available: read fewer frames (--frames) or channels");
 }
 
-OIIO::ParamValueList frame_metadata(const OIIO::ImageSpec& spec) {
-    OIIO::ParamValueList out;
+FrameMetadata frame_metadata(const OIIO::ImageSpec& spec) {
+    FrameMetadata out;
     for (const auto& p : spec.extra_attribs) {
         const std::string name = p.name().string();
         // Format bookkeeping that the writer sets itself.

@@ -19,6 +19,7 @@
 #include "pipeline/frame_source.hpp"
 #include "statfilter/color_convert.hpp"
 #include "statfilter/error.hpp"
+#include "statfilter/frame_metadata.hpp"
 #include "statfilter/frame_pattern.hpp"
 #include "statfilter/sequence_io.hpp"
 

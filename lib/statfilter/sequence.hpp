@@ -1,5 +1,6 @@
 // A frame sequence: F frames of H x W pixels with C float channels, in owned or borrowed memory
-// addressed by byte strides, plus the names, frame numbers and metadata that travel with it.
+// addressed by byte strides, plus the names, frame numbers and metadata that travel with it. No
+// image library in this header: the metadata's type belongs to the I/O layer.
 #pragma once
 #include <cstddef>
 #include <cstdint>
@@ -7,9 +8,9 @@
 #include <string>
 #include <vector>
 
-#include <OpenImageIO/paramlist.h>
-
 namespace statfilter {
+
+class FrameMetadata;  // statfilter/frame_metadata.hpp: the I/O layer's, not the compute core's
 
 struct Shape {
     int64_t frames = 0, height = 0, width = 0, channels = 0;
@@ -49,6 +50,7 @@ public:
     // Borrowed caller memory; the caller keeps it alive.
     Sequence(float* data, const Shape& shape, const Strides& strides);
 
+    ~Sequence();
     Sequence(const Sequence&) = delete;
     Sequence& operator=(const Sequence&) = delete;
 
@@ -78,8 +80,8 @@ public:
     std::vector<int64_t>& frame_numbers() { return frame_numbers_; }
     const std::vector<int64_t>& frame_numbers() const { return frame_numbers_; }
     // Per-frame file metadata (EXR attributes) kept from reading, written back on output.
-    std::vector<OIIO::ParamValueList>& metadata() { return metadata_; }
-    const std::vector<OIIO::ParamValueList>& metadata() const { return metadata_; }
+    std::vector<FrameMetadata>& metadata() { return metadata_; }
+    const std::vector<FrameMetadata>& metadata() const { return metadata_; }
     SequenceSource& source() { return source_; }
     const SequenceSource& source() const { return source_; }
 
@@ -92,7 +94,7 @@ private:
     float* data_ = nullptr;
     std::vector<std::string> channel_names_;
     std::vector<int64_t> frame_numbers_;
-    std::vector<OIIO::ParamValueList> metadata_;
+    std::vector<FrameMetadata> metadata_;
     SequenceSource source_;
 };
 

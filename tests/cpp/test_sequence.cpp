@@ -5,6 +5,7 @@
 #include <limits>
 
 #include "statfilter/error.hpp"
+#include "statfilter/frame_metadata.hpp"
 #include "statfilter/sequence.hpp"
 #include "test_util.hpp"
 

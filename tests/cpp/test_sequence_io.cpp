@@ -12,6 +12,7 @@
 #include "exr_util.hpp"
 #include "statfilter/error.hpp"
 #include "statfilter/frame_pattern.hpp"
+#include "statfilter/frame_metadata.hpp"
 #include "statfilter/sequence_io.hpp"
 #include "test_util.hpp"
 
