@@ -54,10 +54,18 @@ void diffuse_frame(float* pixels, int64_t width, int64_t height, int64_t channel
         for (double v : u)
             if (std::isfinite(v)) sum += std::fabs(v), ++finite;
         eps = finite && sum > 0 ? o.epsilon * sum / finite : 1.0;
-        for (double& v : u) v = std::copysign(std::log1p(std::fabs(v) / eps), v);
     }
+    // The values the conductances are computed on: the log image, or u itself.
+    const bool separate = o.log_domain && o.conserve;
+    std::vector<double> edges_of(separate ? static_cast<size_t>(n) : 0);
+    auto to_log = [&](const std::vector<double>& from, std::vector<double>& to) {
+        for (int64_t i = 0; i < n; ++i) to[i] = std::copysign(std::log1p(std::fabs(from[i]) / eps), from[i]);
+    };
+    if (separate) to_log(u, edges_of);
+    else if (o.log_domain) to_log(u, u);
+    const std::vector<double>& g = separate ? edges_of : u;
     const int64_t row = width * channels;
-    const double k = o.k * gradient_noise(u, width, height, channels);
+    const double k = o.k * gradient_noise(g, width, height, channels);
     if (!(k > 0)) {  // a flat frame: nothing to diffuse
         return;
     }
@@ -65,15 +73,16 @@ void diffuse_frame(float* pixels, int64_t width, int64_t height, int64_t channel
     // Each edge's conductance once per step (east and south of every pixel), shared by the two
     // pixels it joins: half the exp/sqrt calls of evaluating it from both sides, same values.
     std::vector<double> east(static_cast<size_t>(width * height), 0.0), south(east.size(), 0.0);
-    auto edge = [&](const double* a, const double* b) {
+    auto edge = [&](const double* a, const double* b) {  // a and b point into g
         double g2 = 0;
         for (int64_t ch = 0; ch < channels; ++ch) g2 += (b[ch] - a[ch]) * (b[ch] - a[ch]);
         return o.dt * conductance(o.flux, g2 / channels, inv_k2);
     };
     for (int it = 0; it < o.iterations; ++it) {
+        if (separate && it > 0) to_log(u, edges_of);
         for (int64_t y = 0; y < height; ++y)
             for (int64_t x = 0; x < width; ++x) {
-                const double* c = &u[y * row + x * channels];
+                const double* c = &g[y * row + x * channels];
                 if (x + 1 < width) east[y * width + x] = edge(c, c + channels);
                 if (y + 1 < height) south[y * width + x] = edge(c, c + row);
             }
@@ -96,7 +105,7 @@ void diffuse_frame(float* pixels, int64_t width, int64_t height, int64_t channel
     }
     constexpr double lim = 3.4028234663852886e38;
     for (int64_t i = 0; i < n; ++i) {
-        double v = o.log_domain ? std::copysign(eps * std::expm1(std::fabs(u[i])), u[i]) : u[i];
+        double v = o.log_domain && !separate ? std::copysign(eps * std::expm1(std::fabs(u[i])), u[i]) : u[i];
         pixels[i] = static_cast<float>(std::clamp(v, -lim, lim));
     }
 }

@@ -17,7 +17,10 @@ std::vector<ParamSpec> diffusion_params() {
         float_param("k", "2", 1e-9, 1e9, "edge threshold K, in units of the frame's own gradient noise"),
         int_param("iterations", "10", 0, 100000, "explicit diffusion steps"),
         float_param("dt", "0.25", 1e-6, 0.25, "time step; 0.25 is the stability limit of the explicit scheme"),
-        choice_param("domain", "log", {"log", "linear"}, "diffuse log-compressed values (HDR) or raw values"),
+        choice_param("domain", "log", {"log", "log-values", "linear"},
+                     "log: edges measured on log-compressed values (HDR), the linear values diffused (each frame "
+                     "keeps its mean, no negative output for non-negative input); log-values: the log values "
+                     "diffused and undone (biased low); linear: raw values throughout"),
         float_param("epsilon", "0.01", 1e-30, 1e6,
                     "log domain: levels below epsilon x the frame's mean magnitude are treated as flat"),
     };
@@ -29,7 +32,8 @@ DiffusionOptions diffusion_options(const ParamSet& p) {
     o.k = p.get_float("k");
     o.iterations = static_cast<int>(p.get_int("iterations"));
     o.dt = p.get_float("dt");
-    o.log_domain = p.get_string("domain") == "log";
+    o.log_domain = p.get_string("domain") != "linear";
+    o.conserve = p.get_string("domain") == "log";
     o.epsilon = p.get_float("epsilon");
     return o;
 }

@@ -27,6 +27,10 @@ struct GroupModel {
     int64_t stored = 0;           // components kept per series (the rank, or max_rank per pixel)
     std::vector<double> coeff;    // stored x n_total, component-major; series j = pixel * count + channel
     std::vector<double> means;    // n_total
+    SeriesPrep prep;              // the options' preparation with this group's transform scale fixed
+    std::vector<double> linear_means;         // keep_mean: each series' mean before the transform ...
+    std::vector<uint8_t> non_negative;        // ... and whether it had no negative sample
+    std::vector<MeanCorrection> corrections;  // ... giving each series' correction on the way back
     std::vector<int64_t> ranks;   // per pixel (error threshold)
     std::vector<cv::Mat> planes;  // error threshold: pooled coefficient energy per component, and beyond
     cv::Mat tail;
@@ -100,6 +104,7 @@ double LowRankStage::fixed_bytes(const Shape& s, int64_t rank, int threads) cons
     const double P = static_cast<double>(s.pixels()), C = static_cast<double>(s.channels);
     const double stored = options_.per_pixel ? std::min<int64_t>(options_.max_rank, s.frames - 1) : rank;
     double bytes = (stored + 1) * P * C * sizeof(double);                  // coefficients and means
+    if (options_.prep.keep_mean) bytes += P * C * (sizeof(double) + 1 + sizeof(MeanCorrection));
     if (options_.per_pixel) bytes += (stored + 1) * P * sizeof(double) + P * (sizeof(int64_t) + sizeof(float));
     bytes += threads * P * C * (sizeof(double) + sizeof(float));           // one frame being rebuilt per thread
     bytes += 2.0 * s.frames * s.frames * sizeof(double);                   // Gram and basis
@@ -123,6 +128,29 @@ void LowRankStage::run(const FrameSource& source, const FrameConsumer& consume, 
         m.gram.assign(static_cast<size_t>(F * F), 0.0);
         models.push_back(std::move(m));
     }
+    // The transform's scale of each group, measured once before the passes (on the frames
+    // transform_level_frames picks, read here when the shot is not in memory), so every band and tile
+    // sees the same transform.
+    std::unique_ptr<Sequence> level_frames;
+    for (GroupModel& m : models) {
+        m.prep = options_.prep;
+        if (m.prep.scale > 0 || m.prep.transform == ValueTransform::None) continue;
+        const Sequence* probe = source.in_memory();
+        if (!probe) {
+            if (!level_frames) {
+                const std::vector<int64_t> picked = transform_level_frames(F);
+                const Shape ps{static_cast<int64_t>(picked.size()), s.height, s.width, s.channels};
+                level_frames = std::make_unique<Sequence>(ps);
+                for (size_t i = 0; i < picked.size(); ++i)
+                    source.read_rows(picked[i], 0, s.height, &level_frames->at(static_cast<int64_t>(i), 0, 0, 0));
+            }
+            probe = level_frames.get();
+        }
+        m.prep.scale = m.prep.scale_factor * transform_level(*probe, m.group);
+        if (!(m.prep.scale > 0) || !std::isfinite(m.prep.scale)) m.prep.scale = 1.0;
+    }
+    level_frames.reset();
+
     // Band height: the whole shot when it is in memory, else as many rows as the budget leaves. A
     // single band (the shot fits) is kept, with its prepared tiles, for the second pass: one read.
     const bool in_memory = source.in_memory() != nullptr;
@@ -139,7 +167,7 @@ void LowRankStage::run(const FrameSource& source, const FrameConsumer& consume, 
     std::unique_ptr<Sequence> kept_band;
     auto series_of = [&](size_t g, const Sequence& band) -> PreparedSeries& {
         if (!cached[g] || !keep)
-            cached[g] = std::make_unique<PreparedSeries>(band, models[g].group, options_.prep, tile_budget, 3);
+            cached[g] = std::make_unique<PreparedSeries>(band, models[g].group, models[g].prep, tile_budget, 3);
         return *cached[g];
     };
     const int64_t bands = (s.height + rows - 1) / rows;
@@ -171,6 +199,10 @@ void LowRankStage::run(const FrameSource& source, const FrameConsumer& consume, 
         const auto n_total = static_cast<size_t>(s.pixels() * m.group.count);
         m.coeff.assign(static_cast<size_t>(m.stored) * n_total, 0.0);
         m.means.assign(n_total, 0.0);
+        if (m.prep.keep_mean) {
+            m.linear_means.assign(n_total, 0.0);
+            m.non_negative.assign(n_total, 1);
+        }
     }
 
     // The coefficients' size is known now (an automatic rank): the bands of pass 2 shrink to leave
@@ -209,6 +241,10 @@ void LowRankStage::run(const FrameSource& source, const FrameConsumer& consume, 
                 a.resize(static_cast<size_t>(std::max<int64_t>(K, 1) * n));
                 if (K > 0) project_onto_basis(m.basis, K, t.tile.data(), n, a.data());
                 std::copy(t.means.begin(), t.means.end(), m.means.begin() + first);
+                if (m.prep.keep_mean) {
+                    std::copy(t.linear_means.begin(), t.linear_means.end(), m.linear_means.begin() + first);
+                    std::copy(t.non_negative.begin(), t.non_negative.end(), m.non_negative.begin() + first);
+                }
                 for (int64_t i = 0; i < K; ++i) std::copy(a.begin() + i * n, a.begin() + (i + 1) * n, m.coeff.begin() + i * n_total + first);
                 if (!options_.per_pixel) return;
                 for (int64_t j = 0; j < n; ++j) {
@@ -234,8 +270,33 @@ void LowRankStage::run(const FrameSource& source, const FrameConsumer& consume, 
             m.tail.release();
         }
 
-    // Each frame rebuilt on its own, x_t = mu + sum_i V[t, i] a_i, undone from the transform.
+    // keep_mean: each series' correction on the way back, solved once from its whole rebuilt series
+    // (the frames are then rebuilt one at a time and each corrected with it).
     const int64_t P = s.pixels();
+    for (GroupModel& m : models) {
+        if (!m.prep.keep_mean) continue;
+        const int64_t count = m.group.count, n_total = static_cast<int64_t>(m.means.size());
+        m.corrections.assign(static_cast<size_t>(n_total), MeanCorrection());
+        const int64_t chunk = 4096;
+        parallel_for((n_total + chunk - 1) / chunk, ctx.threads, [&](int64_t c) {
+            std::vector<double> x(static_cast<size_t>(F));
+            for (int64_t j = c * chunk; j < std::min(n_total, (c + 1) * chunk); ++j) {
+                const int64_t rank = m.ranks.empty() ? m.stored : m.ranks[static_cast<size_t>(j / count)];
+                for (int64_t f = 0; f < F; ++f) {
+                    double v = 0;
+                    for (int64_t i = 0; i < rank; ++i) v += m.basis.vector(f, i) * m.coeff[i * n_total + j];
+                    x[f] = v + m.means[j];
+                }
+                inverse_transform(m.prep.transform, m.prep.scale, x.data(), x.size());
+                m.corrections[j] = solve_mean_correction(m.prep.transform, m.prep.scale, x.data(), F, m.linear_means[j],
+                                                         m.non_negative[j] != 0);
+            }
+        }, {progress, 0.7, 0.0, "reconstruct"});
+        m.linear_means.clear();
+        m.non_negative.clear();
+    }
+
+    // Each frame rebuilt on its own, x_t = mu + sum_i V[t, i] a_i, undone from the transform.
     parallel_for(F, ctx.threads, [&](int64_t t) {
         std::vector<float> frame(static_cast<size_t>(P * s.channels));
         std::vector<double> values;
@@ -254,7 +315,9 @@ void LowRankStage::run(const FrameSource& source, const FrameConsumer& consume, 
                 }
             }
             for (int64_t j = 0; j < n_total; ++j) values[j] += m.means[j];
-            inverse_transform(options_.prep.transform, values.data(), values.size());
+            inverse_transform(m.prep.transform, m.prep.scale, values.data(), values.size());
+            if (!m.corrections.empty())
+                for (int64_t j = 0; j < n_total; ++j) values[j] = m.corrections[j].apply(values[j]);
             for (int64_t j = 0; j < n_total; ++j) {
                 const double x = values[j];  // saturate at the float range; NaN passes through
                 frame[static_cast<size_t>((j / count) * s.channels + m.group.first + j % count)] =

@@ -4,6 +4,9 @@
 // In the log domain, u = sign(x) log(1 + |x| / eps) with eps a fraction of the frame's mean
 // magnitude: K then measures relative contrast, the same on a 1e-6 region as on a 1e6 one (for
 // frames spanning many decades, make epsilon smaller than the faintest level of interest).
+// By default (conserve) the log domain only measures the edges: the flux moves the linear values,
+// with the symmetric conductances of the log image, so each frame keeps its sum exactly (no bias from
+// undoing a log) and, the step being a convex combination, a non-negative frame stays non-negative.
 // K is in units of the frame's own noise: the robust spread (1.4826 x median) of |grad u|, so one
 // setting serves 4 and 1024 samples per pixel alike (Black et al., robust anisotropic diffusion).
 #pragma once
@@ -21,6 +24,7 @@ struct DiffusionOptions {
     int iterations = 10;
     double dt = 0.25;       // explicit step; <= 0.25 is stable on the 4-neighbour stencil
     bool log_domain = true;
+    bool conserve = true;   // log domain: conductances from the log values, flux on the linear ones
 };
 
 DiffusionFlux parse_diffusion_flux(const std::string& name);

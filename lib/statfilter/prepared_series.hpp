@@ -1,5 +1,7 @@
 // The time series of one channel group, ready for temporal work: gathered tile by tile, repaired,
-// transformed and centred. Filters make several passes (basis, then reconstruction); when the whole
+// cleared of fireflies (statfilter/temporal_outliers.hpp), transformed relative to the group's level
+// and centred; on the way back each series keeps its linear-domain mean and, when it had no negative
+// sample, stays non-negative (inverse_transform_keeping_mean). Filters make several passes (basis, then reconstruction); when the whole
 // group fits in one tile of the memory budget it is prepared once and kept for every pass.
 #pragma once
 #include <memory>
@@ -7,6 +9,7 @@
 
 #include "statfilter/nonfinite.hpp"
 #include "statfilter/progress.hpp"
+#include "statfilter/temporal_outliers.hpp"
 #include "statfilter/time_series_tiles.hpp"
 #include "statfilter/value_transform.hpp"
 
@@ -16,16 +19,25 @@ namespace statfilter {
 struct SeriesPrep {
     ValueTransform transform = ValueTransform::None;
     bool repair_nonfinite = false;
+    // The transform's scale: scale if > 0, else scale_factor x the group's level (transform_level),
+    // measured once by PreparedSeries before any pass.
+    double scale = 0;
+    double scale_factor = 1;
+    double outlier_z = 0;          // fireflies beyond this many robust deviations are replaced; 0 = off
+    bool keep_mean = true;         // the inverse keeps each series' linear mean and sign (see above)
 };
 
 // Repairs and transforms a gathered F x n tile, then centres every series; its means go to means[n].
+// The transform's scale is prep.scale (1 when not set).
 void prepare_tile(double* tile, int64_t frames, int64_t n, const SeriesPrep& prep, double* means);
 
 // One prepared tile: tile[f * n + j] is series j in frame f, centred; means[j] its mean.
+// linear_means[j] and non_negative[j]: series j's mean and sign before the transform.
 struct PreparedTile {
     PixelRange range;
     int64_t n = 0;
-    std::vector<double> tile, means;
+    std::vector<double> tile, means, linear_means;
+    std::vector<uint8_t> non_negative;
 };
 
 class PreparedSeries {
@@ -37,6 +49,9 @@ public:
     int64_t frames() const { return input_.shape().frames; }
     const Shape& shape() const { return input_.shape(); }
     ChannelSelection group() const { return group_; }
+    // The transform's scale in use, and the samples replaced as fireflies.
+    double scale() const { return prep_.scale; }
+    const std::vector<TemporalOutlier>& outliers() const { return outliers_; }
 
     // A pass that only reads the tiles: visit(const PreparedTile&).
     template <class Visit>
@@ -76,6 +91,7 @@ private:
     ChannelSelection group_;
     SeriesPrep prep_;
     std::vector<PixelRange> tiles_;
+    std::vector<TemporalOutlier> outliers_;
     std::unique_ptr<PreparedTile> cached_;
 };
 

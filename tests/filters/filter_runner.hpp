@@ -23,10 +23,13 @@ inline FilterRun run_filter(const std::string& name, const Sequence& input,
     return r;
 }
 
-// The filter on the raw values (transform=none unless given): the linear algebra the references check.
+// The filter on the raw values (transform=none unless given), with the plain inverse and no firefly
+// replacement: the linear algebra the references check.
 inline FilterRun run_linear(const std::string& name, const Sequence& input,
                             std::map<std::string, std::string> params = {}) {
     params.emplace("transform", "none");
+    params.emplace("keep_mean", "0");
+    params.emplace("firefly_z", "0");
     return run_filter(name, input, params);
 }
 
