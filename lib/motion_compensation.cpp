@@ -199,7 +199,7 @@ AlignedAverageStats aligned_average(const Sequence& input, const Sequence& estim
         scale = *q > 0 ? 1.0 / *q : 1.0;
     }
     std::vector<cv::Mat> images(static_cast<size_t>(F));
-    if (!use_vectors) {
+    {
         cv::parallel_for_(cv::Range(0, static_cast<int>(F)), [&](const cv::Range& frames) {
             std::vector<float> frame;
             for (int f = frames.start; f < frames.end; ++f) {
@@ -232,6 +232,7 @@ AlignedAverageStats aligned_average(const Sequence& input, const Sequence& estim
                 std::vector<double> sample(static_cast<size_t>(C));
                 std::vector<cv::Vec2f> where(pixels.size());  // each pixel's surface point in frame f
                 std::vector<uint8_t> tracked(pixels.size());  // still followed (vectors consistent so far)
+                std::vector<uint8_t> by_vector(pixels.size());  // followed along the vectors, else the flow
                 for (int t = frames.start; t < frames.end; ++t) {
                     const double gain_t = options.frame_gain.empty() ? 1.0 : options.frame_gain[static_cast<size_t>(t)];
                     std::fill(sum.begin(), sum.end(), 0.0);
@@ -270,6 +271,14 @@ AlignedAverageStats aligned_average(const Sequence& input, const Sequence& estim
                             where[i] = cv::Vec2f(static_cast<float>(pixels[i] % s.width), static_cast<float>(pixels[i] / s.width));
                         std::fill(tracked.begin(), tracked.end(), uint8_t{1});
                     };
+                    // Which pixels follow the vectors: those with a vector at t (Cycles writes exact zeros
+                    // where no geometry is hit, and a static surface has them too); the others follow the flow.
+                    int64_t by_flow = 0;
+                    for (size_t i = 0; i < pixels.size(); ++i) {
+                        const float* v = use_vectors ? vectors.data() + (t * P + pixels[i]) * 4 : nullptr;
+                        by_vector[i] = v && (v[0] != 0 || v[1] != 0 || v[2] != 0 || v[3] != 0);
+                        by_flow += !by_vector[i];
+                    }
                     start_at_t();
                     accumulate(t);
                     for (const int dir : {-1, 1}) {
@@ -278,12 +287,13 @@ AlignedAverageStats aligned_average(const Sequence& input, const Sequence& estim
                         const int64_t last = dir < 0 ? std::max<int64_t>(0, t - options.half_width)
                                                      : std::min<int64_t>(F - 1, t + options.half_width);
                         for (int64_t f = t + dir; dir < 0 ? f >= last : f <= last; f += dir) {
-                            if (use_vectors) {
-                                for (size_t i = 0; i < pixels.size(); ++i)
-                                    if (tracked[i]) tracked[i] = follow_vectors(vectors.data(), s.width, s.height, f - dir, dir, where[i]);
-                            } else if (estimate_flow) {
+                            for (size_t i = 0; i < pixels.size(); ++i)
+                                if (by_vector[i] && tracked[i])
+                                    tracked[i] = follow_vectors(vectors.data(), s.width, s.height, f - dir, dir, where[i]);
+                            if (by_flow > 0 && estimate_flow) {
                                 dis->calc(images[static_cast<size_t>(t)], images[static_cast<size_t>(f)], flow);
                                 for (size_t i = 0; i < pixels.size(); ++i) {
+                                    if (by_vector[i]) continue;
                                     const int64_t p = pixels[i];
                                     const cv::Vec2f d = flow.at<cv::Vec2f>(static_cast<int>(p / s.width), static_cast<int>(p % s.width));
                                     where[i] = cv::Vec2f(static_cast<float>(p % s.width) + d[0], static_cast<float>(p / s.width) + d[1]);

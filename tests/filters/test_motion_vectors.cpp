@@ -1,7 +1,7 @@
 // The renderer's motion vectors (Cycles' Vector pass) as the flow of motion compensation: a camera pan
 // followed through chained vectors in Cycles' convention (and not with the signs flipped), an object
-// that uncovers the background dropped by the forward-backward check, shapes checked, and the hybrid
-// taking them as its named input "vectors".
+// that uncovers the background dropped by the forward-backward check, pixels without vectors on the
+// optical flow, shapes checked.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -71,10 +71,11 @@ TEST(MotionVectors, ChainedVectorsFollowACameraPan) {
     EXPECT_GT(interior_mse(flipped, *s.clean, 10), 3.0 * interior_mse(out, *s.clean, 10));
 }
 
-// A bright square slides right by 3 pixels a frame over a still, dark background, noise-free. The
-// background it uncovers has zero vectors that land on the square in the earlier frames, whose
-// vectors point elsewhere: the forward-backward check drops those samples, so the uncovered
-// background stays exactly 1 and the square exactly 10, with no weighting by the first pass at all.
+// A bright square slides right by 3 pixels a frame over a dark background that is still (its vectors
+// a negligible 1e-4 pixels a frame: given, not absent), noise-free. The background it uncovers lands
+// on the square in the earlier frames, whose vectors point elsewhere: the forward-backward check drops
+// those samples, so the uncovered background stays exactly 1 and the square exactly 10, with no
+// weighting by the first pass at all.
 TEST(MotionVectors, ForwardBackwardCheckDropsOccludedSamples) {
     const Shape shape{9, 32, 64, 1};
     Sequence clean(shape);
@@ -84,7 +85,7 @@ TEST(MotionVectors, ForwardBackwardCheckDropsOccludedSamples) {
             for (int64_t x = 0; x < 64; ++x) {
                 const bool square = y >= 10 && y < 22 && x >= 10 + 3 * f && x < 22 + 3 * f;
                 clean.at(f, y, x, 0) = square ? 10.0f : 1.0f;
-                set_motion(*vectors, f, y, x, square ? 3.0f : 0.0f, 0.0f);
+                set_motion(*vectors, f, y, x, square ? 3.0f : 1e-4f, 0.0f);
             }
     AlignedAverageOptions o;
     o.half_width = 4;
@@ -94,6 +95,21 @@ TEST(MotionVectors, ForwardBackwardCheckDropsOccludedSamples) {
     Sequence out(shape);
     average(clean, clean, out, o);
     EXPECT_LT(max_abs_diff(out, clean), 1e-4);
+}
+
+// Cycles writes exact zeros where no geometry is hit: such pixels follow the optical flow instead, so
+// all-zero vectors give exactly the flow's result (the pan is then followed all the same).
+TEST(MotionVectors, PixelsWithoutVectorsFollowTheFlow) {
+    const Pan s = pan_scene(9, 48, 64, 1, 0.3);
+    const Sequence none(Shape{9, 48, 64, 4});
+    AlignedAverageOptions o;
+    o.half_width = 4;
+    Sequence flow(s.noisy->shape()), zero(s.noisy->shape());
+    average(*s.noisy, *s.clean, flow, o);
+    o.vectors = &none;
+    average(*s.noisy, *s.clean, zero, o);
+    EXPECT_EQ(max_abs_diff(flow, zero), 0.0);
+    EXPECT_LT(interior_mse(zero, *s.clean, 8), 0.25 * interior_mse(*s.noisy, *s.clean, 8));
 }
 
 TEST(MotionVectors, ShapesAreChecked) {
