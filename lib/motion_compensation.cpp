@@ -179,7 +179,8 @@ AlignedAverageStats aligned_average(const Sequence& input, const Sequence& estim
                 guide[static_cast<size_t>(f * P * C) + i] = static_cast<float>(std::log1p(std::max(0.0, frame[i] / gain / mean)));
         }
     });
-    // The renderer's vectors, when given, replace the flow (X, Y, Z, W of each pixel, contiguous).
+    // The renderer's vectors, when given, replace the flow where they are not zero (X, Y, Z, W of each
+    // pixel, contiguous).
     const bool use_vectors = options.vectors != nullptr;
     std::vector<float> vectors;
     if (use_vectors) {
@@ -199,20 +200,18 @@ AlignedAverageStats aligned_average(const Sequence& input, const Sequence& estim
         scale = *q > 0 ? 1.0 / *q : 1.0;
     }
     std::vector<cv::Mat> images(static_cast<size_t>(F));
-    {
-        cv::parallel_for_(cv::Range(0, static_cast<int>(F)), [&](const cv::Range& frames) {
-            std::vector<float> frame;
-            for (int f = frames.start; f < frames.end; ++f) {
-                if (passes) {
-                    frame.resize(static_cast<size_t>(P * passes->shape().channels));
-                    passes->get_frame(f, frame.data());
-                    images[static_cast<size_t>(f)] = flow_image(frame.data(), s.width, s.height, passes->shape().channels, 1.0);
-                } else {
-                    images[static_cast<size_t>(f)] = flow_image(guide.data() + f * P * C, s.width, s.height, C, scale);
-                }
+    cv::parallel_for_(cv::Range(0, static_cast<int>(F)), [&](const cv::Range& frames) {
+        std::vector<float> frame;
+        for (int f = frames.start; f < frames.end; ++f) {
+            if (passes) {
+                frame.resize(static_cast<size_t>(P * passes->shape().channels));
+                passes->get_frame(f, frame.data());
+                images[static_cast<size_t>(f)] = flow_image(frame.data(), s.width, s.height, passes->shape().channels, 1.0);
+            } else {
+                images[static_cast<size_t>(f)] = flow_image(guide.data() + f * P * C, s.width, s.height, C, scale);
             }
-        });
-    }
+        }
+    });
 
     const bool estimate_flow = s.width >= kMinFlowSide && s.height >= kMinFlowSide;
     const double inv_two_sigma2 = 1.0 / (2.0 * options.sigma * options.sigma);
@@ -249,8 +248,7 @@ AlignedAverageStats aligned_average(const Sequence& input, const Sequence& estim
                             if (!tracked[i]) continue;  // occluded or uncovered on the way: not the same surface
                             const int64_t p = pixels[i];
                             const float fx = where[i][0], fy = where[i][1];
-                            if (!(fx >= 0 && fy >= 0 && fx <= static_cast<float>(s.width - 1) && fy <= static_cast<float>(s.height - 1)))
-                                continue;  // the surface point is outside frame f (NaN flow lands here too)
+                            if (!inside(s.width, s.height, where[i])) continue;  // outside frame f (NaN flow lands here too)
                             double mismatch = 0;
                             bool finite = true;
                             for (int64_t c = 0; c < C; ++c) {

@@ -64,6 +64,17 @@ std::shared_ptr<Sequence> moving_weight(const Sequence& input, const Sequence& a
         o.z_threshold = z;
         combine_max(*weight, *motion_from_temporal_change(input, o));
     }
+    // The renderer's albedo/normal passes change exactly where geometry moves, which noise cannot fake:
+    // a pixel that departs from its temporal median in any frame (beta from the passes) moves.
+    for (const char* pass : {"albedo", "normal"}) {
+        const std::string pattern = params.get_string(pass);
+        if (pattern.empty()) continue;
+        const auto beta = local_motion_from_aux(*read_pass(input, pattern), params.get_float("aux_threshold"), 0);
+        for (int64_t f = 0; f < s.frames; ++f)
+            for (int64_t y = 0; y < s.height; ++y)
+                for (int64_t x = 0; x < s.width; ++x)
+                    weight->at(0, y, x, 0) = std::max(weight->at(0, y, x, 0), beta->at(f, y, x, 0));
+    }
     const double drift = params.get_float("vector_drift");
     if (vectors) {
         const Shape& v = vectors->shape();

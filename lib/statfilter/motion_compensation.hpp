@@ -38,7 +38,8 @@ struct AlignedAverageOptions {
     std::vector<double> frame_gain;
     // Optional: the renderer's motion vectors (Cycles' Vector pass, F x H x W x 4: X, Y, Z, W in pixels,
     // docs/methods.md), used instead of optical flow. They are chained for frames further apart, and a
-    // sample is dropped once a step fails the forward-backward check (occlusion, disocclusion).
+    // sample is dropped once a step fails the forward-backward check (occlusion, disocclusion). A pixel
+    // whose vector at t is exactly zero (no geometry, or a static surface) follows the flow instead.
     const Sequence* vectors = nullptr;
 };
 

@@ -1,14 +1,18 @@
 // Motion alpha misses: a small ball crossing each pixel in a frame or two. The temporal-change test
 // flags its path and nothing on pure noise (with fireflies) or under a global light change; the
-// renderer's vectors mark what they move; the hybrid and auto decide "moving" from them, and auto
-// hands the vectors on to the hybrid.
+// renderer's vectors and albedo pass mark what moves; the hybrid and auto decide "moving" from them,
+// and auto hands the vectors on to the hybrid.
 #include <gtest/gtest.h>
 
+#include <unistd.h>
+
 #include <cmath>
+#include <filesystem>
 #include <random>
 
 #include "filter_runner.hpp"
 #include "statfilter/motion.hpp"
+#include "statfilter/sequence_io.hpp"
 
 using namespace statfilter;
 using namespace statfilter::test;
@@ -114,4 +118,28 @@ TEST(MotionVectors, MarkWhatMovesAndReachTheHybridThroughAuto) {
     auto hybrid = create_filter("hybrid");
     hybrid->set_input("vectors", &small);
     EXPECT_THROW(hybrid->execute(*still, out, Progress()), Error);
+}
+
+// The albedo pass says where geometry moves even when the indirect light barely shows it: a dark
+// square the light does not tell apart slides across the albedo; the hybrid's moving share rises
+// from (about) nothing to the square's path.
+TEST(MotionPasses, TheAlbedoPassSaysWhereThingsMove) {
+    const auto still = wall(0.2, 0.0, false);
+    Sequence albedo(Shape{kFrames, kHeight, kWidth, 3});
+    for (int64_t f = 0; f < kFrames; ++f)
+        for (int64_t y = 0; y < kHeight; ++y)
+            for (int64_t x = 0; x < kWidth; ++x)
+                for (int64_t c = 0; c < 3; ++c)
+                    albedo.at(f, y, x, c) = (y >= 10 && y < 20 && x >= 2 * f && x < 2 * f + 10) ? 0.1f : 0.8f;
+    const auto dir = std::filesystem::temp_directory_path() / ("statfilter-passes-" + std::to_string(::getpid()));
+    std::filesystem::create_directories(dir);
+    WriteOptions w;
+    w.half = false;
+    const std::string pattern = (dir / "albedo.####.exr").string();
+    write_sequence(albedo, pattern, w);
+    const FilterRun with_pass = run_filter("hybrid", *still, {{"albedo", pattern}});
+    std::filesystem::remove_all(dir);
+    const FilterRun without = run_filter("hybrid", *still);
+    EXPECT_LT(without.result("motion_fraction"), 0.01);
+    EXPECT_GT(with_pass.result("motion_fraction"), 0.1);
 }
