@@ -190,4 +190,87 @@ void combine_max(Sequence& into, const Sequence& other) {
                     into.at(f, y, x, c) = std::max(into.at(f, y, x, c), other.at(f, y, x, c));
 }
 
+std::shared_ptr<Sequence> motion_from_temporal_change(const Sequence& input, const TemporalChangeOptions& o) {
+    const Shape& s = input.shape();
+    const int64_t F = s.frames, P = s.pixels();
+    auto map = std::make_shared<Sequence>(Shape{1, s.height, s.width, 1});
+    map->channel_names()[0] = "moving";
+    if (F < 3) return map;  // too few frames to tell motion from noise
+    // Luminance over each frame's mean level, median-filtered (5 x 5), in log(1 + l / m).
+    std::vector<cv::Mat> lum(static_cast<size_t>(F));
+    std::vector<double> level(static_cast<size_t>(F), 0.0);
+    for (int64_t f = 0; f < F; ++f) {
+        lum[f] = cv::Mat(static_cast<int>(s.height), static_cast<int>(s.width), CV_32F);
+        for (int64_t p = 0; p < P; ++p) {
+            double sum = 0;
+            for (int64_t c = 0; c < s.channels; ++c) sum += input.at(f, p / s.width, p % s.width, c);
+            const double l = std::isfinite(sum) ? std::max(0.0, sum / static_cast<double>(s.channels)) : 0.0;
+            lum[f].at<float>(static_cast<int>(p)) = static_cast<float>(l);
+            level[f] += l;
+        }
+    }
+    double mean_level = 0;
+    for (double l : level) mean_level += l / static_cast<double>(F);
+    if (!(mean_level > 0)) return map;  // all zero: nothing moves
+    const double m = mean_level / static_cast<double>(P);
+    for (int64_t f = 0; f < F; ++f) {
+        const double gain = level[f] > 0 ? mean_level / level[f] : 1.0;
+        if (s.width >= 5 && s.height >= 5) cv::medianBlur(lum[f], lum[f], 5);
+        for (int64_t p = 0; p < P; ++p) {
+            float& v = lum[f].at<float>(static_cast<int>(p));
+            v = static_cast<float>(std::log1p(gain * v / m));
+        }
+    }
+    // Each pixel's centre (temporal median) and noise (1.4826 MAD of its frame differences / sqrt 2).
+    std::vector<cv::Mat> z2(static_cast<size_t>(F));
+    for (auto& z : z2) z = cv::Mat(static_cast<int>(s.height), static_cast<int>(s.width), CV_32F);
+    std::vector<double> series(static_cast<size_t>(F)), diff(static_cast<size_t>(F - 1)), sigma(static_cast<size_t>(P));
+    std::vector<double> centre(static_cast<size_t>(P));
+    for (int64_t p = 0; p < P; ++p) {
+        for (int64_t f = 0; f < F; ++f) series[f] = lum[f].at<float>(static_cast<int>(p));
+        for (int64_t f = 1; f < F; ++f) diff[f - 1] = series[f] - series[f - 1];
+        const double dmed = median_of(diff);
+        for (double& d : diff) d = std::fabs(d - dmed);
+        sigma[p] = 1.4826 * median_of(diff) / std::sqrt(2.0);
+        centre[p] = median_of(series);
+    }
+    // A noise-free series has sigma 0: a floor far below any render noise keeps its score finite.
+    const double floor = 1e-6 + 1e-3 * median_of(sigma);
+    for (int64_t p = 0; p < P; ++p) {
+        const double sd = std::max(sigma[p], floor);
+        for (int64_t f = 0; f < F; ++f) {
+            const double z = (lum[f].at<float>(static_cast<int>(p)) - centre[p]) / sd;
+            z2[f].at<float>(static_cast<int>(p)) = static_cast<float>(std::min(z * z, 1e30));
+        }
+    }
+    cv::Mat peak = cv::Mat::zeros(static_cast<int>(s.height), static_cast<int>(s.width), CV_32F);
+    for (int64_t f = 0; f < F; ++f) {
+        if (s.width >= 5 && s.height >= 5) cv::medianBlur(z2[f], z2[f], 5);
+        peak = cv::max(peak, z2[f]);
+    }
+    const double threshold2 = o.z_threshold * o.z_threshold;
+    for (int64_t p = 0; p < P; ++p)
+        map->at(0, p / s.width, p % s.width, 0) = peak.at<float>(static_cast<int>(p)) > threshold2 ? 1.0f : 0.0f;
+    return map;
+}
+
+std::shared_ptr<Sequence> motion_from_vectors(const Sequence& vectors, double min_drift) {
+    const Shape& s = vectors.shape();
+    if (s.channels < 4)
+        throw Error(Status::InvalidArgument, "motion vectors need 4 channels (X, Y, Z, W), got " + to_string(s));
+    auto map = std::make_shared<Sequence>(Shape{1, s.height, s.width, 1});
+    map->channel_names()[0] = "moving";
+    for (int64_t y = 0; y < s.height; ++y)
+        for (int64_t x = 0; x < s.width; ++x) {
+            double drift = 0;
+            for (int64_t f = 0; f + 1 < s.frames; ++f) {
+                const double z = vectors.at(f, y, x, 2), w = vectors.at(f, y, x, 3);
+                const double d = std::hypot(z, w);
+                if (std::isfinite(d)) drift += d;
+            }
+            map->at(0, y, x, 0) = drift >= min_drift ? 1.0f : 0.0f;
+        }
+    return map;
+}
+
 }  // namespace statfilter

@@ -57,6 +57,35 @@ inline float bilinear(const float* frame, int64_t width, int64_t height, int64_t
     return (1 - ay) * ((1 - ax) * v(x0, y0) + ax * v(x1, y0)) + ay * ((1 - ax) * v(x0, y1) + ax * v(x1, y1));
 }
 
+// Cycles' Vector pass, X, Y, Z, W per pixel in pixels with Y pointing up: the surface point seen at
+// (x, y) (rows counted downward) is at (x + X, y - Y) in the previous frame and at (x - Z, y + W) in
+// the next (measured on the renders, docs/methods.md). The step from `frame` one frame in direction
+// `dir` (-1 previous, +1 next), read bilinearly at (fx, fy) inside the frame.
+inline cv::Vec2f vector_step(const float* vectors, int64_t width, int64_t height, int64_t frame, int dir, float fx, float fy) {
+    const float* v = vectors + frame * width * height * 4;
+    if (dir < 0) return {bilinear(v, width, height, 4, fx, fy, 0), -bilinear(v, width, height, 4, fx, fy, 1)};
+    return {-bilinear(v, width, height, 4, fx, fy, 2), bilinear(v, width, height, 4, fx, fy, 3)};
+}
+
+inline bool inside(int64_t width, int64_t height, const cv::Vec2f& q) {
+    return q[0] >= 0 && q[1] >= 0 && q[0] <= static_cast<float>(width - 1) && q[1] <= static_cast<float>(height - 1);
+}
+
+// Moves `where` (a surface point in `frame`) one frame in direction `dir` along the vectors; false when
+// it leaves the frame or the step fails the forward-backward check: the vector back from where it lands
+// must return it (|d + b|^2 <= 0.01 (|d|^2 + |b|^2) + 0.5, Sundaram et al. 2010). Where a surface is
+// occluded in the next frame, or uncovered in this one, the two vectors belong to different surfaces.
+inline bool follow_vectors(const float* vectors, int64_t width, int64_t height, int64_t frame, int dir, cv::Vec2f& where) {
+    const cv::Vec2f d = vector_step(vectors, width, height, frame, dir, where[0], where[1]);
+    const cv::Vec2f q = where + d;
+    if (!(std::isfinite(q[0]) && std::isfinite(q[1])) || !inside(width, height, q)) return false;
+    const cv::Vec2f b = vector_step(vectors, width, height, frame + dir, -dir, q[0], q[1]);
+    const cv::Vec2f e = d + b;
+    if (!(e.dot(e) <= 0.01f * (d.dot(d) + b.dot(b)) + 0.5f)) return false;
+    where = q;
+    return true;
+}
+
 }  // namespace
 
 FlowPreset parse_flow_preset(const std::string& name) {
@@ -109,6 +138,12 @@ AlignedAverageStats aligned_average(const Sequence& input, const Sequence& estim
         throw Error(Status::InvalidArgument, "aligned_average: one light level per frame expected");
     for (double g : options.frame_gain)
         if (!(g > 0 && std::isfinite(g))) throw Error(Status::InvalidArgument, "aligned_average: light levels must be positive");
+    if (options.vectors) {
+        const Shape& v = options.vectors->shape();
+        if (v.frames != s.frames || v.height != s.height || v.width != s.width || v.channels < 4)
+            throw Error(Status::InvalidArgument, "the motion vectors are " + to_string(v) + ", the input " + to_string(s) +
+                                                     ": expected the same frames and size with 4 channels (X, Y, Z, W)");
+    }
     if (!pixel_mask.empty() && static_cast<int64_t>(pixel_mask.size()) != s.pixels())
         throw Error(Status::InvalidArgument, "aligned_average: the pixel mask does not match the frame");
     const int64_t F = s.frames, P = s.pixels(), C = s.channels;
@@ -144,6 +179,17 @@ AlignedAverageStats aligned_average(const Sequence& input, const Sequence& estim
                 guide[static_cast<size_t>(f * P * C) + i] = static_cast<float>(std::log1p(std::max(0.0, frame[i] / gain / mean)));
         }
     });
+    // The renderer's vectors, when given, replace the flow where they are not zero (X, Y, Z, W of each
+    // pixel, contiguous).
+    const bool use_vectors = options.vectors != nullptr;
+    std::vector<float> vectors;
+    if (use_vectors) {
+        const Sequence& v = *options.vectors;
+        vectors.resize(static_cast<size_t>(F * P * 4));
+        for (int64_t f = 0; f < F; ++f)
+            for (int64_t p = 0; p < P; ++p)
+                for (int64_t c = 0; c < 4; ++c) vectors[static_cast<size_t>((f * P + p) * 4 + c)] = v.at(f, p / s.width, p % s.width, c);
+    }
     // The flow's 8-bit images: the passes, or the first pass scaled so its 99.5th percentile is white.
     double scale = 1.0;
     if (!passes) {
@@ -180,26 +226,29 @@ AlignedAverageStats aligned_average(const Sequence& input, const Sequence& estim
         cv::parallel_for_(cv::Range(static_cast<int>(start), end), [&](const cv::Range& frames) {
             try {
                 cv::Ptr<cv::DISOpticalFlow> dis = cv::DISOpticalFlow::create(dis_preset(options.flow));
-                cv::Mat flow(static_cast<int>(s.height), static_cast<int>(s.width), CV_32FC2, cv::Scalar(0, 0));
+                cv::Mat flow;
                 std::vector<double> sum(pixels.size() * static_cast<size_t>(C)), weight(pixels.size());
                 std::vector<double> sample(static_cast<size_t>(C));
+                std::vector<cv::Vec2f> where(pixels.size());  // each pixel's surface point in frame f
+                std::vector<uint8_t> tracked(pixels.size());  // still followed (vectors consistent so far)
+                std::vector<uint8_t> by_vector(pixels.size());  // followed along the vectors, else the flow
                 for (int t = frames.start; t < frames.end; ++t) {
                     const double gain_t = options.frame_gain.empty() ? 1.0 : options.frame_gain[static_cast<size_t>(t)];
                     std::fill(sum.begin(), sum.end(), 0.0);
                     std::fill(weight.begin(), weight.end(), 0.0);
                     const float* gt = guide.data() + t * P * C;
-                    const int64_t s0 = std::max<int64_t>(0, t - options.half_width);
-                    const int64_t s1 = std::min<int64_t>(F - 1, t + options.half_width);
-                    for (int64_t f = s0; f <= s1; ++f) {
-                        if (f != t && estimate_flow) dis->calc(images[static_cast<size_t>(t)], images[static_cast<size_t>(f)], flow);
+                    // Frame t itself, then its neighbours outward, one side after the other: each step
+                    // starts from the previous one (chained vectors; the flow warm-started from the last
+                    // one of this side, never from another frame's), so the result does not depend on
+                    // how frames are shared out between threads.
+                    const auto accumulate = [&](int64_t f) {
                         const float* vf = values.data() + f * P * C;
                         const float* gf = guide.data() + f * P * C;
                         for (size_t i = 0; i < pixels.size(); ++i) {
-                            const int64_t p = pixels[i], x = p % s.width, y = p / s.width;
-                            const cv::Vec2f d = f == t ? cv::Vec2f(0, 0) : flow.at<cv::Vec2f>(static_cast<int>(y), static_cast<int>(x));
-                            const float fx = static_cast<float>(x) + d[0], fy = static_cast<float>(y) + d[1];
-                            if (!(fx >= 0 && fy >= 0 && fx <= static_cast<float>(s.width - 1) && fy <= static_cast<float>(s.height - 1)))
-                                continue;  // the surface point is outside frame f (NaN flow lands here too)
+                            if (!tracked[i]) continue;  // occluded or uncovered on the way: not the same surface
+                            const int64_t p = pixels[i];
+                            const float fx = where[i][0], fy = where[i][1];
+                            if (!inside(s.width, s.height, where[i])) continue;  // outside frame f (NaN flow lands here too)
                             double mismatch = 0;
                             bool finite = true;
                             for (int64_t c = 0; c < C; ++c) {
@@ -213,6 +262,42 @@ AlignedAverageStats aligned_average(const Sequence& input, const Sequence& estim
                             for (int64_t c = 0; c < C; ++c)
                                 sum[i * static_cast<size_t>(C) + static_cast<size_t>(c)] += w * sample[static_cast<size_t>(c)];
                             weight[i] += w;
+                        }
+                    };
+                    const auto start_at_t = [&] {
+                        for (size_t i = 0; i < pixels.size(); ++i)
+                            where[i] = cv::Vec2f(static_cast<float>(pixels[i] % s.width), static_cast<float>(pixels[i] / s.width));
+                        std::fill(tracked.begin(), tracked.end(), uint8_t{1});
+                    };
+                    // Which pixels follow the vectors: those with a vector at t (Cycles writes exact zeros
+                    // where no geometry is hit, and a static surface has them too); the others follow the flow.
+                    int64_t by_flow = 0;
+                    for (size_t i = 0; i < pixels.size(); ++i) {
+                        const float* v = use_vectors ? vectors.data() + (t * P + pixels[i]) * 4 : nullptr;
+                        by_vector[i] = v && (v[0] != 0 || v[1] != 0 || v[2] != 0 || v[3] != 0);
+                        by_flow += !by_vector[i];
+                    }
+                    start_at_t();
+                    accumulate(t);
+                    for (const int dir : {-1, 1}) {
+                        start_at_t();
+                        flow.release();  // DIS starts from the flow it is handed: from zero on each side
+                        const int64_t last = dir < 0 ? std::max<int64_t>(0, t - options.half_width)
+                                                     : std::min<int64_t>(F - 1, t + options.half_width);
+                        for (int64_t f = t + dir; dir < 0 ? f >= last : f <= last; f += dir) {
+                            for (size_t i = 0; i < pixels.size(); ++i)
+                                if (by_vector[i] && tracked[i])
+                                    tracked[i] = follow_vectors(vectors.data(), s.width, s.height, f - dir, dir, where[i]);
+                            if (by_flow > 0 && estimate_flow) {
+                                dis->calc(images[static_cast<size_t>(t)], images[static_cast<size_t>(f)], flow);
+                                for (size_t i = 0; i < pixels.size(); ++i) {
+                                    if (by_vector[i]) continue;
+                                    const int64_t p = pixels[i];
+                                    const cv::Vec2f d = flow.at<cv::Vec2f>(static_cast<int>(p / s.width), static_cast<int>(p % s.width));
+                                    where[i] = cv::Vec2f(static_cast<float>(p % s.width) + d[0], static_cast<float>(p / s.width) + d[1]);
+                                }
+                            }
+                            accumulate(f);
                         }
                     }
                     double total = 0;

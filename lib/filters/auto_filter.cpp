@@ -118,7 +118,10 @@ private:
 
 class AutoFilter final : public Filter {
 public:
-    AutoFilter() : Filter(make_params()) { declare_image_result("alpha"); }
+    AutoFilter() : Filter(make_params()) {
+        accept_input("vectors");
+        declare_image_result("alpha");
+    }
 
     static std::vector<ParamSpec> make_params() {
         std::vector<ParamSpec> p = {
@@ -126,7 +129,8 @@ public:
                          "fast: global PCA; balanced: the method measured best for the scene's motion; high: "
                          "OIDN on every frame first (when available), then the best temporal method"),
             float_param("still_fraction", "0.01", 0, 1,
-                        "below this share of moving pixels (1 - mean alpha) the scene counts as still"),
+                        "below this share of moving pixels (the mean moving weight: 1 - alpha, raised by the "
+                        "temporal-change test and the motion vectors) the scene counts as still"),
         };
         for (auto& c : motion_params()) p.push_back(c);
         for (auto& c : temporal_common_params()) {
@@ -180,9 +184,10 @@ protected:
             const bool want_oidn = quality == "high" && params().get_string("prefilter").empty();
             const std::string problem = want_oidn ? oidn_problem() : "";
             const std::string oidn_note = problem.empty() ? "" : " (OIDN not used: " + problem + ")";
-            // Only alpha decides: beta (z-scores or passes) is left to the hybrid if it is picked.
+            // alpha, the temporal-change test and the vectors (when given) decide; beta (z-scores or
+            // passes) is left to the hybrid if it is picked.
             alpha = compute_alpha(input, resolved, {progress, 0.0, 0.3, "analyse"});
-            const double moving = 1.0 - mean_of_map(*alpha);
+            const double moving = mean_of_map(*moving_weight(input, *alpha, this->input("vectors"), resolved));
             mutable_results().set("motion_fraction", moving);
             const bool passes = !params().get_string("albedo").empty() || !params().get_string("normal").empty();
             choice = choose(quality, moving, moving < params().get_float("still_fraction"), passes,
@@ -196,6 +201,7 @@ protected:
                 if (choice.passes || (spec.name != "albedo" && spec.name != "normal"))
                     chosen->params().set_string(spec.name, params().get_string(spec.name));
         for (const auto& [name, value] : choice.params) chosen->params().set_string(name, value);
+        if (choice.method == "hybrid") chosen->set_input("vectors", this->input("vectors"));
         if (!choice.prefilter.empty()) {
             chosen->params().set_string("prefilter", choice.prefilter);
             chosen->params().set_string("prefilter_params", kOidnPrefilterParams);

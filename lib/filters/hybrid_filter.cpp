@@ -5,12 +5,15 @@
 // single-frame filter (reading "safe", s = 1 - beta). Both are here, measured in docs/methods.md.
 // I_MB and I_SF are computed only where their weight is non-zero: the moving basis on a compact
 // sequence of just those pixels, diffusion on each frame's bounding box of them (plus a halo as wide
-// as the diffusion reaches). When alpha says (almost) nothing moves, the basis computed for alpha
+// as the diffusion reaches). Where things move is 1 - alpha, raised where a temporal-change test
+// (an object crossing a pixel in a frame or two, which alpha misses) or the renderer's motion vectors
+// (the named input "vectors", Cycles' Vector pass) say so. When (almost) nothing moves, the basis computed for alpha
 // reconstructs the sequence directly (global PCA, automatic rank): a still scene costs about what
 // `pca` costs. By default (motion_compensation=auto) the moving pixels get the motion-compensated
 // average instead of I_MB and I_SF: each frame's neighbours warped onto it along optical flow, on the
-// renderer's albedo/normal passes when given, else on a first pass (statfilter/motion_compensation.hpp);
-// I = I_T * (1 - m) + I_MC * m, m = 1 - alpha grown by a max filter (mc_dilate).
+// renderer's albedo/normal passes when given, else on a first pass, or along the renderer's vectors when
+// given (statfilter/motion_compensation.hpp); I = I_T * (1 - m) + I_MC * m, m the moving weight grown by
+// a max filter (mc_dilate).
 #include <algorithm>
 
 #include <opencv2/imgproc.hpp>
@@ -37,6 +40,7 @@ void pass_common(const ParamSet& from, Filter& to) {
 class HybridFilter final : public Filter {
 public:
     HybridFilter() : Filter(make_params()) {
+        accept_input("vectors");
         declare_image_result("alpha");
         declare_image_result("beta");
     }
@@ -50,7 +54,8 @@ public:
                          "where there is; literal (the study's slide) = moving basis where beta says motion"),
             int_param("mb_half_width", "8", 1, 10000, "moving basis: window half-width in frames"),
             float_param("still_fraction", "0.01", 0, 1,
-                        "below this share of moving pixels (1 - mean alpha) only global PCA runs: a still scene"),
+                        "below this share of moving pixels (the mean moving weight: 1 - alpha, raised by the temporal-change "
+                        "test and the motion vectors) only global PCA runs: a still scene"),
             ParamSpec{"single_frame", ParamType::String, "diffusion",
                       "with motion_compensation=off, the single-frame stage: diffusion (on the moving pixels' "
                       "bounding boxes only) or any single-frame filter or plugin, e.g. oidn (on the frames that need it)",
@@ -90,7 +95,10 @@ protected:
         const TemporalBasis basis = compute_temporal_basis(series, {progress, 0.0, 0.2, "motion"});
         MotionMaps maps;
         maps.alpha = compute_alpha(series, basis, params(), {progress, 0.2, 0.1, "motion"});
-        const double moving = 1.0 - mean_of_map(*maps.alpha);
+        // Where things move: alpha, the temporal-change test and the renderer's vectors when given.
+        const Sequence* vectors = this->input("vectors");
+        const auto weight = moving_weight(input, *maps.alpha, vectors, params());
+        const double moving = mean_of_map(*weight);
         mutable_results().set("motion_fraction", moving);
         mutable_results().set_image("alpha", maps.alpha);
         if (moving < params().get_float("still_fraction") && setup.shared_basis) {
@@ -104,7 +112,7 @@ protected:
             return;
         }
         if (params().get_string("motion_compensation") == "auto") {
-            run_motion_compensated(input, output, *maps.alpha, setup, progress);
+            run_motion_compensated(input, output, *weight, vectors, setup, progress);
             return;
         }
         compute_beta(input, params(), maps);
@@ -118,7 +126,7 @@ protected:
         std::vector<float> w_mb(static_cast<size_t>(s.frames * P)), w_sf(w_mb.size());
         std::vector<int64_t> mb_pixels;
         for (int64_t p = 0; p < P; ++p) {
-            const float moving = 1.0f - maps.alpha->at(0, p / s.width, p % s.width, 0);
+            const float moving = weight->at(0, p / s.width, p % s.width, 0);
             bool needs_mb = false;
             for (int64_t f = 0; f < s.frames; ++f) {
                 const float beta = maps.beta->at(f, p / s.width, p % s.width, 0);
@@ -162,9 +170,10 @@ private:
             if (name == "rank" || name == "mean_rank") mutable_results().set("temporal_" + name, temporal->results().get_string(name));
     }
 
-    // I_T where alpha says still, the motion-compensated average where it says moving.
-    void run_motion_compensated(const Sequence& input, Sequence& output, const Sequence& alpha, const TemporalSetup& setup,
-                                const Progress& progress) {
+    // I_T where nothing moves, the motion-compensated average where things move (`moving`, 1 = moving),
+    // aligned along the renderer's vectors when given, else along optical flow.
+    void run_motion_compensated(const Sequence& input, Sequence& output, const Sequence& moving_map, const Sequence* vectors,
+                                const TemporalSetup& setup, const Progress& progress) {
         const Shape& s = input.shape();
         run_temporal(input, output, {progress, 0.3, 0.15, "temporal"});
         // The first pass the warped samples are checked against: I_T with the light diffusion pass.
@@ -178,15 +187,16 @@ private:
             return true;
         }));
         const std::string albedo = params().get_string("albedo"), normal = params().get_string("normal");
-        const auto albedo_pass = albedo.empty() ? nullptr : read_pass(input, albedo);
-        const auto normal_pass = normal.empty() ? nullptr : read_pass(input, normal);
+        // The passes guide the flow; with the renderer's vectors there is no flow to guide.
+        const auto albedo_pass = albedo.empty() || vectors ? nullptr : read_pass(input, albedo);
+        const auto normal_pass = normal.empty() || vectors ? nullptr : read_pass(input, normal);
         const auto passes = albedo_pass || normal_pass ? make_pass_guide(albedo_pass.get(), normal_pass.get()) : nullptr;
-        // The moving weight 1 - alpha, grown by a max filter: alpha is pooled over a box and ramps, so
+        // The moving weight, grown by a max filter: alpha is pooled over a box and ramps, so
         // along the rim of a moving region the temporal filter would keep part of the weight, and
         // there its per-pixel ranks keep the motion's noise (dark and bright speckles at 4 spp).
         cv::Mat weight(static_cast<int>(s.height), static_cast<int>(s.width), CV_32F);
         for (int64_t p = 0; p < s.pixels(); ++p)
-            weight.at<float>(static_cast<int>(p / s.width), static_cast<int>(p % s.width)) = 1.0f - alpha.at(0, p / s.width, p % s.width, 0);
+            weight.at<float>(static_cast<int>(p / s.width), static_cast<int>(p % s.width)) = moving_map.at(0, p / s.width, p % s.width, 0);
         const int grow = static_cast<int>(params().get_int("mc_dilate"));
         if (grow > 0) cv::dilate(weight, weight, cv::Mat::ones(2 * grow + 1, 2 * grow + 1, CV_8U));
         std::vector<uint8_t> moving(static_cast<size_t>(s.pixels()));
@@ -196,8 +206,11 @@ private:
         options.half_width = static_cast<int>(params().get_int("mc_half_width"));
         options.sigma = params().get_float("mc_sigma");
         options.flow = parse_flow_preset(params().get_string("mc_flow"));
-        options.transform = setup.prep.transform;
+        // Linear samples: a weighted mean of unbiased samples is unbiased, where a mean of their logs
+        // comes back darker (Jensen); the weights still judge agreement in log units.
+        options.transform = ValueTransform::None;
         options.frame_gain = still_light_levels(aligned, moving);
+        options.vectors = vectors;
         // A pixel with nothing finite to average keeps the first pass.
         const AlignedAverageStats stats = aligned_average(input, aligned, passes.get(), moving, options, aligned,
                                                           {progress, 0.5, 0.5, "motion compensation"});
@@ -209,8 +222,9 @@ private:
                 for (int64_t c = 0; c < s.channels; ++c) output.at(f, y, x, c) += w * (aligned.at(f, y, x, c) - output.at(f, y, x, c));
         }
         mutable_results().set("beta_source", "none (motion compensation)");
-        mutable_results().set("motion_compensation", passes ? "optical flow on the albedo/normal passes"
-                                                            : "optical flow on the first pass");
+        mutable_results().set("motion_compensation", vectors  ? "the renderer's motion vectors"
+                                                     : passes ? "optical flow on the albedo/normal passes"
+                                                              : "optical flow on the first pass");
         mutable_results().set("aligned_fraction", stats.pixel_fraction);
         mutable_results().set("aligned_frames", stats.mean_frames);
         mutable_results().set("moving_basis_fraction", 0.0);

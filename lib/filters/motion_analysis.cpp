@@ -30,6 +30,12 @@ std::vector<ParamSpec> motion_params() {
                      "local motion from z-scores of the input, from the albedo/normal passes, or auto (the passes if given)"),
         ParamSpec{"albedo", ParamType::String, "", "albedo pass: a file pattern (frames as the input)", 0, 0, {}, false, ""},
         ParamSpec{"normal", ParamType::String, "", "normal pass: a file pattern (frames as the input)", 0, 0, {}, false, ""},
+        float_param("change_z", "5", 0, 1e6,
+                    "temporal-change test (motion alpha misses, e.g. an object crossing a pixel in a frame or two): "
+                    "robust score against the pixel's own noise above which it moves; 0 = off"),
+        float_param("vector_drift", "0.5", 0, 1e9,
+                    "with the renderer's motion vectors: a pixel they carry this many pixels over the shot moves "
+                    "(0 = the vectors only align, they do not say where things move)"),
         float_param("aux_threshold", "0.05", 0, 1e9, "a pass value departing this far from its temporal median means motion"),
     };
 }
@@ -43,6 +49,40 @@ std::unique_ptr<Sequence> read_pass(const Sequence& input, const std::string& pa
         throw Error(Status::InvalidArgument, "pass '" + pattern + "' is " + to_string(a) + ", the input " +
                                                  to_string(input.shape()));
     return aux;
+}
+
+std::shared_ptr<Sequence> moving_weight(const Sequence& input, const Sequence& alpha, const Sequence* vectors,
+                                        const ParamSet& params) {
+    const Shape& s = input.shape();
+    auto weight = std::make_shared<Sequence>(alpha.shape());
+    weight->channel_names()[0] = "moving";
+    for (int64_t y = 0; y < s.height; ++y)
+        for (int64_t x = 0; x < s.width; ++x) weight->at(0, y, x, 0) = 1.0f - alpha.at(0, y, x, 0);
+    const double z = params.get_float("change_z");
+    if (z > 0) {
+        TemporalChangeOptions o;
+        o.z_threshold = z;
+        combine_max(*weight, *motion_from_temporal_change(input, o));
+    }
+    // The renderer's albedo/normal passes change exactly where geometry moves, which noise cannot fake:
+    // a pixel that departs from its temporal median in any frame (beta from the passes) moves.
+    for (const char* pass : {"albedo", "normal"}) {
+        const std::string pattern = params.get_string(pass);
+        if (pattern.empty()) continue;
+        const auto beta = local_motion_from_aux(*read_pass(input, pattern), params.get_float("aux_threshold"), 0);
+        for (int64_t f = 0; f < s.frames; ++f)
+            for (int64_t y = 0; y < s.height; ++y)
+                for (int64_t x = 0; x < s.width; ++x)
+                    weight->at(0, y, x, 0) = std::max(weight->at(0, y, x, 0), beta->at(f, y, x, 0));
+    }
+    const double drift = params.get_float("vector_drift");
+    if (vectors) {
+        const Shape& v = vectors->shape();
+        if (v.frames != s.frames || v.height != s.height || v.width != s.width)
+            throw Error(Status::InvalidArgument, "the motion vectors are " + to_string(v) + ", the input " + to_string(s));
+        if (drift > 0) combine_max(*weight, *motion_from_vectors(*vectors, drift));
+    }
+    return weight;
 }
 
 std::shared_ptr<Sequence> compute_alpha(PreparedSeries& series, const TemporalBasis& basis, const ParamSet& params,

@@ -28,6 +28,13 @@ std::shared_ptr<Sequence> compute_alpha(PreparedSeries& series, const TemporalBa
                                         const ProgressSpan& progress);
 void compute_beta(const Sequence& input, const ParamSet& params, MotionMaps& maps);
 
+// The share of each pixel that moves, 1-frame, 1-channel: 1 - alpha, raised to 1 where the temporal-
+// change test (change_z > 0), the albedo/normal passes (beta from them, in any frame) or the
+// renderer's motion vectors (when given) say the pixel moves. The
+// still/moving decisions of the hybrid and of auto and the hybrid's motion-compensated region use it.
+std::shared_ptr<Sequence> moving_weight(const Sequence& input, const Sequence& alpha, const Sequence* vectors,
+                                        const ParamSet& params);
+
 // A renderer pass (albedo, normal) for the input's frames, read from a file pattern; its frames and
 // size must match the input's.
 std::unique_ptr<Sequence> read_pass(const Sequence& input, const std::string& pattern);

@@ -47,4 +47,21 @@ std::shared_ptr<Sequence> local_motion_from_aux(const Sequence& aux, double thre
 
 void combine_max(Sequence& into, const Sequence& other);
 
+// Motion that alpha misses: an object that crosses a pixel in a frame or two (a fast ball) puts a short
+// spike into each series, spread over many components each below the noise threshold. This test looks
+// at every frame instead: each frame's luminance is divided by the frame's mean (a global light change
+// is not motion), median-filtered over 5 x 5 pixels (noise and fireflies go, an object stays), taken as
+// log(1 + l / mean), and compared with the pixel's temporal median in units of its own noise, measured
+// from frame-to-frame differences (robust to slow trends and to the short spike itself). A pixel moves
+// where the median over a 5x5 neighbourhood of the squared score (a firefly or a lone noisy pixel does
+// not count, an object does) exceeds z_threshold^2 in some frame. 1-frame, 1-channel map of 0/1.
+struct TemporalChangeOptions {
+    double z_threshold = 5.0;
+};
+std::shared_ptr<Sequence> motion_from_temporal_change(const Sequence& input, const TemporalChangeOptions& options);
+
+// Where the renderer's motion vectors (Cycles' Vector pass, X, Y, Z, W in pixels) carry a pixel `drift`
+// pixels or more over the shot (its steps to the next frame summed): 1-frame, 1-channel map of 0/1.
+std::shared_ptr<Sequence> motion_from_vectors(const Sequence& vectors, double drift);
+
 }  // namespace statfilter

@@ -36,6 +36,11 @@ struct AlignedAverageOptions {
     // frame's level before averaging and the average multiplied by frame t's, so a light that
     // brightens or dims over the window is followed, not averaged away.
     std::vector<double> frame_gain;
+    // Optional: the renderer's motion vectors (Cycles' Vector pass, F x H x W x 4: X, Y, Z, W in pixels,
+    // docs/methods.md), used instead of optical flow. They are chained for frames further apart, and a
+    // sample is dropped once a step fails the forward-backward check (occlusion, disocclusion). A pixel
+    // whose vector at t is exactly zero (no geometry, or a static surface) follows the flow instead.
+    const Sequence* vectors = nullptr;
 };
 
 struct AlignedAverageStats {

@@ -1,0 +1,145 @@
+// Motion alpha misses: a small ball crossing each pixel in a frame or two. The temporal-change test
+// flags its path and nothing on pure noise (with fireflies) or under a global light change; the
+// renderer's vectors and albedo pass mark what moves; the hybrid and auto decide "moving" from them,
+// and auto hands the vectors on to the hybrid.
+#include <gtest/gtest.h>
+
+#include <unistd.h>
+
+#include <cmath>
+#include <filesystem>
+#include <random>
+
+#include "filter_runner.hpp"
+#include "statfilter/motion.hpp"
+#include "statfilter/sequence_io.hpp"
+
+using namespace statfilter;
+using namespace statfilter::test;
+
+namespace {
+
+constexpr int64_t kFrames = 32, kHeight = 48, kWidth = 64;
+
+// A lit wall (smooth, about 1) with multiplicative noise of relative sigma `noise`, its light scaled by
+// 1 + light_swing * sin(frame) (a global light change), and optionally a bright ball of radius 5 that
+// crosses the frame at 8 pixels a frame and bounces back.
+std::unique_ptr<Sequence> wall(double noise, double light_swing, bool ball, unsigned seed = 3) {
+    auto s = std::make_unique<Sequence>(Shape{kFrames, kHeight, kWidth, 3});
+    std::mt19937 rng(seed);
+    std::normal_distribution<double> n(0, 1);
+    for (int64_t f = 0; f < kFrames; ++f) {
+        const double light = 1 + light_swing * std::sin(2 * M_PI * f / kFrames);
+        const int64_t leg = (8 * f) % 112;
+        const double bx = 4 + (leg < 56 ? leg : 112 - leg), by = 24;
+        for (int64_t y = 0; y < kHeight; ++y)
+            for (int64_t x = 0; x < kWidth; ++x) {
+                const bool on_ball = ball && std::hypot(x - bx, y - by) <= 5;
+                const double clean = on_ball ? 4.0 : light * (0.8 + 0.4 * std::sin(x / 9.0) * std::cos(y / 7.0));
+                for (int64_t c = 0; c < 3; ++c) s->at(f, y, x, c) = static_cast<float>(std::max(0.0, clean * (1 + noise * n(rng))));
+            }
+    }
+    return s;
+}
+
+double share(const Sequence& map) {
+    double sum = 0;
+    for (int64_t y = 0; y < map.shape().height; ++y)
+        for (int64_t x = 0; x < map.shape().width; ++x) sum += map.at(0, y, x, 0);
+    return sum / static_cast<double>(map.shape().pixels());
+}
+
+}  // namespace
+
+TEST(TemporalChange, FlagsAFastBallAndNotNoiseOrLight) {
+    const auto ball = motion_from_temporal_change(*wall(0.5, 0.0, true), {});
+    // The ball's path: rows 19-29 between the bounces; the map covers most of it and little else.
+    int64_t on_path = 0, path = 0, off_path = 0;
+    for (int64_t y = 0; y < kHeight; ++y)
+        for (int64_t x = 0; x < kWidth; ++x) {
+            const bool in = y >= 20 && y <= 28 && x >= 6 && x <= 58;
+            path += in;
+            on_path += in && ball->at(0, y, x, 0) > 0;
+            off_path += !(y >= 16 && y <= 32) && ball->at(0, y, x, 0) > 0;
+        }
+    EXPECT_GT(on_path, path * 8 / 10);
+    EXPECT_EQ(off_path, 0);
+
+    auto noisy = wall(0.5, 0.0, false);
+    // Fireflies: single samples 200 times the wall in a few frames.
+    for (int64_t f = 0; f < kFrames; f += 3) noisy->at(f, (7 * f) % kHeight, (13 * f) % kWidth, 1) = 200.0f;
+    EXPECT_EQ(share(*motion_from_temporal_change(*noisy, {})), 0.0);
+    EXPECT_EQ(share(*motion_from_temporal_change(*wall(0.05, 0.35, false), {})), 0.0);  // a light swing is not motion
+    EXPECT_EQ(share(*motion_from_temporal_change(*wall(0.0, 0.0, false), {})), 0.0);   // noise-free and still
+    EXPECT_GT(share(*motion_from_temporal_change(*wall(0.0, 0.0, true), {})), 0.1);    // noise-free ball
+    // Extremes: two frames, all zero.
+    Sequence two(Shape{2, 8, 8, 1}), zero(Shape{5, 8, 8, 1});
+    EXPECT_EQ(share(*motion_from_temporal_change(two, {})), 0.0);
+    EXPECT_EQ(share(*motion_from_temporal_change(zero, {})), 0.0);
+}
+
+TEST(TemporalChange, TheHybridAndAutoSeeTheBall) {
+    const auto ball = wall(0.5, 0.0, true);
+    const FilterRun alpha_only = run_filter("hybrid", *ball, {{"change_z", "0"}});
+    const FilterRun hybrid = run_filter("hybrid", *ball);
+    EXPECT_GT(hybrid.result("motion_fraction"), alpha_only.result("motion_fraction") + 0.05);
+    EXPECT_GT(hybrid.result("aligned_fraction"), 0.1);
+    const FilterRun chosen = run_filter("auto", *ball);
+    EXPECT_EQ(chosen.filter->results().get_string("method"), "hybrid then diffusion");
+    // A light swing over a still wall stays a still scene.
+    const FilterRun light = run_filter("auto", *wall(0.2, 0.35, false));
+    EXPECT_EQ(light.filter->results().get_string("method"), "pca then diffusion");
+}
+
+// Vectors mark the pixels they carry half a pixel or more over the shot; the hybrid and auto take them
+// as the input "vectors" (auto hands them on to the hybrid, which aligns along them).
+TEST(MotionVectors, MarkWhatMovesAndReachTheHybridThroughAuto) {
+    Sequence vectors(Shape{kFrames, kHeight, kWidth, 4});
+    for (int64_t f = 0; f < kFrames; ++f)
+        for (int64_t y = 0; y < 10; ++y)
+            for (int64_t x = 0; x < kWidth; ++x) vectors.at(f, y, x, 2) = y < 5 ? 0.1f : 0.01f;  // 3.1 and 0.31 px
+    const auto map = motion_from_vectors(vectors, 0.5);
+    EXPECT_EQ(map->at(0, 2, 7, 0), 1.0f);
+    EXPECT_EQ(map->at(0, 7, 7, 0), 0.0f);
+    EXPECT_NEAR(share(*map), 5.0 / kHeight, 1e-9);
+    Sequence three(Shape{kFrames, kHeight, kWidth, 3});
+    EXPECT_THROW(motion_from_vectors(three, 0.5), Error);
+
+    const auto still = wall(0.2, 0.0, false);
+    auto filter = create_filter("auto");
+    filter->set_input("vectors", &vectors);
+    Sequence out(still->shape());
+    filter->execute(*still, out, Progress());
+    EXPECT_EQ(filter->results().get_string("method"), "hybrid then diffusion");
+    EXPECT_EQ(filter->results().get_string("hybrid.motion_compensation"), "the renderer's motion vectors");
+    EXPECT_THROW(filter->set_input("vector", &vectors), Error);
+    // The vectors' size must match the input's.
+    Sequence small(Shape{kFrames, 8, 8, 4});
+    auto hybrid = create_filter("hybrid");
+    hybrid->set_input("vectors", &small);
+    EXPECT_THROW(hybrid->execute(*still, out, Progress()), Error);
+}
+
+// The albedo pass says where geometry moves even when the indirect light barely shows it: a dark
+// square the light does not tell apart slides across the albedo; the hybrid's moving share rises
+// from (about) nothing to the square's path.
+TEST(MotionPasses, TheAlbedoPassSaysWhereThingsMove) {
+    const auto still = wall(0.2, 0.0, false);
+    Sequence albedo(Shape{kFrames, kHeight, kWidth, 3});
+    for (int64_t f = 0; f < kFrames; ++f)
+        for (int64_t y = 0; y < kHeight; ++y)
+            for (int64_t x = 0; x < kWidth; ++x)
+                for (int64_t c = 0; c < 3; ++c)
+                    albedo.at(f, y, x, c) = (y >= 10 && y < 20 && x >= 2 * f && x < 2 * f + 10) ? 0.1f : 0.8f;
+    const auto dir = std::filesystem::temp_directory_path() / ("statfilter-passes-" + std::to_string(::getpid()));
+    std::filesystem::create_directories(dir);
+    WriteOptions w;
+    w.half = false;
+    const std::string pattern = (dir / "albedo.####.exr").string();
+    write_sequence(albedo, pattern, w);
+    const FilterRun with_pass = run_filter("hybrid", *still, {{"albedo", pattern}});
+    std::filesystem::remove_all(dir);
+    const FilterRun without = run_filter("hybrid", *still);
+    EXPECT_LT(without.result("motion_fraction"), 0.01);
+    EXPECT_GT(with_pass.result("motion_fraction"), 0.1);
+}
