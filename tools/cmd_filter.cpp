@@ -73,6 +73,20 @@ int run_filter(const Args& args, const std::string& method) {
     for (const auto& [name, value] : args.extras())
         filter.check(sf_filter_set_string(filter.get(), dashes_to_underscores(name).c_str(), value.c_str()));
     check_save_list(filter, method, saves);
+    // --vectors PATTERN: the renderer's motion vectors (Cycles' Vector pass: X, Y, Z, W) as the
+    // filter's named input "vectors", read for the same frames as the input; a filter that does not
+    // use them says so here, before any work.
+    SequenceHandle vectors;
+    if (args.has("vectors")) {
+        sf_read_options o;
+        sf_read_options_init(&o);
+        const std::string frames = args.option("frames");
+        o.frames = frames.empty() ? nullptr : frames.c_str();
+        check(sf_sequence_read(args.option("vectors").c_str(), &o, vectors.out()));
+        if (sf_filter_set_input(filter.get(), "vectors", vectors.get()) != SF_OK)
+            throw UsageError("--vectors: method " + method + " does not use motion vectors (" +
+                             sf_filter_last_error(filter.get()) + "); they are for the hybrid and --quality");
+    }
 
     const auto start = std::chrono::steady_clock::now();
     ProgressLine progress(args.flag("quiet"));
@@ -142,7 +156,7 @@ int cmd_copy(int argc, char** argv) {
 }
 
 int cmd_denoise(int argc, char** argv) {
-    const Args args(argc, argv, 2, kFlags, merged({kInputOptions, kOutputOptions, kRunOptions, {"method", "save"}}));
+    const Args args(argc, argv, 2, kFlags, merged({kInputOptions, kOutputOptions, kRunOptions, {"method", "save", "vectors"}}));
     if (args.flag("help")) {
         std::printf("usage: statfilter denoise IN OUT [--quality fast|balanced|high | --method NAME] [--PARAM VALUE ...]\n"
                     "                           [options]\n\n"
@@ -153,6 +167,7 @@ int cmd_denoise(int argc, char** argv) {
                     kDefaultMethod, kDefaultMethodWithPrefilter);
         for (int i = 0; i < sf_filter_count(); ++i) print_parameters(sf_filter_name(i));
         std::printf("\n%s\n%s\n%s  --save NAME=PATH[,...]  write image results, e.g. rank_map=ranks.exr (PNG: false colour)\n"
+                    "  --vectors PATTERN       the renderer's motion vectors (Cycles Vector pass) for the hybrid and --quality\n"
                     "  --json                  report on stdout\n  --quiet, -q\n", kInputHelp, kOutputHelp, kRunHelp);
         return 0;
     }

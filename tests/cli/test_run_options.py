@@ -78,3 +78,17 @@ def test_every_output_frame_says_what_made_it(small_sequence, tmp_path):
     info = subprocess.run([oiio_tool("oiiotool"), "--info", "-v", str(tmp_path / "b.0001.exr")],
                           capture_output=True, text=True).stdout
     assert "statfilter:method" in info and "statfilter:reason" in info  # what the preset picked, and why
+
+
+def test_vectors_are_handed_to_the_hybrid_and_refused_by_others(small_sequence, tmp_path):
+    import pytest
+
+    from conftest import SHARED
+    scene = SHARED / "fast_ball"
+    if not scene.is_dir():
+        pytest.skip("../shared/data is not here")
+    noisy, vectors = scene / "spp0004" / "indirect.####.exr", scene / "aux" / "vector.####.exr"
+    proc = run("denoise", noisy, tmp_path / "p.####.exr", "--method", "pca", "--vectors", vectors, check_rc=2)
+    assert "--vectors" in proc.stderr and "does not use motion vectors" in proc.stderr
+    proc = run("denoise", noisy, tmp_path / "h.####.exr", "--method", "hybrid", "--vectors", vectors, "--json")
+    assert "vectors" in proc.stdout  # the hybrid says it aligned along the renderer's vectors
