@@ -3,6 +3,7 @@
 #include "filters/frame_stages.hpp"
 #include "pipeline/stage.hpp"
 #include "statfilter/error.hpp"
+#include "statfilter/nonfinite.hpp"
 
 namespace statfilter {
 
@@ -30,9 +31,20 @@ void Filter::execute(const Sequence& input, Sequence& output, const Progress& pr
     const double pre_span = pre ? 0.4 : 0.0, post_span = post ? 0.2 : 0.0;
     std::unique_ptr<Sequence> prefiltered, filtered;
     const Sequence* source = &input;
+    // nonfinite=repair is the pipeline's policy, not only the temporal filter's: a prefilter (OIDN
+    // refuses NaN) gets the samples repaired the same way (each series' finite mean) first.
+    std::unique_ptr<Sequence> repaired;
+    if (pre && params_.has("nonfinite") && params_.get_string("nonfinite") == "repair" &&
+        check_nonfinite(input, NonFinitePolicy::Repair) > 0) {
+        repaired = std::make_unique<Sequence>(input.shape());
+        repaired->copy_samples_from(input);
+        repaired->copy_attributes_from(input);
+        repair_sequence_nonfinite(*repaired);
+        source = repaired.get();
+    }
     if (pre) {  // the stage's execute gives it input's attributes
         prefiltered = std::make_unique<Sequence>(input.shape());
-        run_frame_stage("prefilter", params_, input, *prefiltered, slice(progress, 0, pre_span), results_);
+        run_frame_stage("prefilter", params_, *source, *prefiltered, slice(progress, 0, pre_span), results_);
         source = prefiltered.get();
     }
     Sequence* target = &output;

@@ -61,4 +61,21 @@ void repair_nonfinite(double* tile, int64_t frames, int64_t n) {
         }
 }
 
+void repair_sequence_nonfinite(Sequence& seq) {
+    const Shape& s = seq.shape();
+    std::vector<double> series(static_cast<size_t>(s.frames));
+    for (int64_t y = 0; y < s.height; ++y)
+        for (int64_t x = 0; x < s.width; ++x)
+            for (int64_t c = 0; c < s.channels; ++c) {
+                bool bad = false;
+                for (int64_t f = 0; f < s.frames; ++f) {
+                    series[static_cast<size_t>(f)] = seq.at(f, y, x, c);
+                    bad = bad || !std::isfinite(series[static_cast<size_t>(f)]);
+                }
+                if (!bad) continue;
+                repair_nonfinite(series.data(), s.frames, 1);
+                for (int64_t f = 0; f < s.frames; ++f) seq.at(f, y, x, c) = static_cast<float>(series[static_cast<size_t>(f)]);
+            }
+}
+
 }  // namespace statfilter

@@ -39,7 +39,9 @@ void Filter::execute(const FrameSource& source, FrameSink& sink, const RunOption
     const Progress& progress = options.progress;
 
     double needed = 0;
-    const auto stage = stream_stage();
+    // A prefilter on samples to repair needs each series' mean first: such a run holds the shot.
+    const bool repair_first = pre && params_.has("nonfinite") && params_.get_string("nonfinite") == "repair";
+    const auto stage = repair_first ? nullptr : stream_stage();
     const bool streamed = stage != nullptr;
     if (stage) {
         if (pre) prefilter = std::make_unique<FrameStagePool>("prefilter", params_);

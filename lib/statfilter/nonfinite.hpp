@@ -18,5 +18,8 @@ int64_t check_nonfinite(const Sequence& seq, NonFinitePolicy policy, int64_t fir
 // Replaces each series' non-finite samples (series j is tile[f * n + j] over f) by the mean of its
 // finite samples, or 0 when it has none.
 void repair_nonfinite(double* tile, int64_t frames, int64_t n);
+// The same on a whole sequence in place: each (pixel, channel) series' non-finite samples become the
+// mean of its finite samples, or 0.
+void repair_sequence_nonfinite(Sequence& seq);
 
 }  // namespace statfilter

@@ -95,3 +95,16 @@ def test_layers_of_the_input_files(oidn, tmp_path):
     bad = run_cli("denoise", raw / "frame.####.exr", out, "--channels", "ViewLayer.Diffuse Indirect",
                   "--method", "oidn", "--albedo", "ViewLayer.No Such Layer", "-q", check_rc=1)
     assert "albedo" in bad.stderr and "No Such Layer" in bad.stderr
+
+
+def test_high_quality_repairs_nonfinite_samples_before_oidn(oidn, sample):
+    """nonfinite=repair reaches the prefilter too: OIDN refuses NaN, so the samples are repaired first."""
+    noisy, ref = sample
+    bad = noisy[:8].copy()
+    bad[3, 10, 20, 1] = np.nan
+    bad[5, 40, 60, 0] = np.inf
+    f = statfilter.Filter("auto", quality="high", nonfinite="repair")
+    out = f(bad)
+    assert np.isfinite(out).all()
+    with pytest.raises(statfilter.NumericError):
+        statfilter.Filter("auto", quality="high")(bad)
