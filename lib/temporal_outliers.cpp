@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "pipeline/parallel.hpp"
 #include "statfilter/nonfinite.hpp"
 
 namespace statfilter {
@@ -25,12 +26,13 @@ std::vector<TemporalOutlier> find_temporal_outliers(const Sequence& seq, Channel
     const Shape& s = seq.shape();
     const int64_t F = s.frames, C = group.count, P = s.pixels(), N = P * C;
     if (!(o.z > 0) || F < 3 || N == 0) return found;
-    // Each series' temporal median and robust deviation, transformed, tile by tile.
+    // Each series' temporal median and robust deviation, transformed, tile by tile (tiles in parallel).
     std::vector<float> median(static_cast<size_t>(N)), deviation(static_cast<size_t>(N));
-    std::vector<double> tile, series(static_cast<size_t>(F));
-    for (const PixelRange& range : make_pixel_tiles(s, C, o.budget_bytes, 1)) {
+    const std::vector<PixelRange> tiles = make_pixel_tiles(s, C, o.budget_bytes / resolve_threads(0), 1);
+    parallel_for(static_cast<int64_t>(tiles.size()), resolve_threads(0), [&](int64_t t) {
+        const PixelRange range = tiles[static_cast<size_t>(t)];
         const int64_t n = range.size() * C;
-        tile.resize(static_cast<size_t>(F * n));
+        std::vector<double> tile(static_cast<size_t>(F * n)), series(static_cast<size_t>(F));
         gather_tile(seq, range, group, tile.data());
         if (o.repair_nonfinite) repair_nonfinite(tile.data(), F, n);
         forward_transform(o.transform, o.scale, tile.data(), tile.size());
@@ -42,16 +44,19 @@ std::vector<TemporalOutlier> find_temporal_outliers(const Sequence& seq, Channel
             median[g] = static_cast<float>(m);
             deviation[g] = static_cast<float>(1.4826 * median_of(series));
         }
-    }
+    }, {Progress(), 0, 1, "fireflies"});
     std::vector<double> positive;
     for (float d : deviation)
         if (d > 0 && std::isfinite(d)) positive.push_back(d);
     const double floor = positive.empty() ? 0.0 : median_of(positive);
     if (!(floor > 0)) return found;  // (nearly) every series constant: nothing to measure against
-    // Frame by frame: each pixel's largest deviation over the group's channels, then isolation.
-    std::vector<float> frame(static_cast<size_t>(P * s.channels)), score(static_cast<size_t>(P));
+    // Frame by frame (frames in parallel): each pixel's largest deviation over the group's channels,
+    // then isolation.
+    std::vector<std::vector<TemporalOutlier>> per_frame(static_cast<size_t>(F));
     const double half = 0.5 * o.z;
-    for (int64_t f = 0; f < F; ++f) {
+    parallel_for(F, resolve_threads(0), [&](int64_t f) {
+        std::vector<float> frame(static_cast<size_t>(P * s.channels)), score(static_cast<size_t>(P));
+        std::vector<TemporalOutlier>& out = per_frame[static_cast<size_t>(f)];
         seq.get_frame(f, frame.data());
         for (int64_t p = 0; p < P; ++p) {
             float worst = 0;
@@ -84,10 +89,11 @@ std::vector<TemporalOutlier> find_temporal_outliers(const Sequence& seq, Channel
                 if (!((std::fabs(v) - std::fabs(median[g])) / std::max<double>(deviation[g], floor) > o.z)) continue;
                 double back = median[g];
                 inverse_transform(o.transform, o.scale, &back, 1);
-                found.push_back({f, g, back});
+                out.push_back({f, g, back});
             }
         }
-    }
+    }, {Progress(), 0, 1, "fireflies"});
+    for (const auto& frame_found : per_frame) found.insert(found.end(), frame_found.begin(), frame_found.end());
     std::sort(found.begin(), found.end(), [](const TemporalOutlier& a, const TemporalOutlier& b) {
         return a.series != b.series ? a.series < b.series : a.frame < b.frame;
     });

@@ -39,7 +39,7 @@ struct GroupModel {
 // A band of rows [y0, y1) of every frame, as a sequence: a view of the source's memory when it
 // holds the shot, else read into buffer (frames in parallel).
 std::unique_ptr<Sequence> band_view(const FrameSource& source, int64_t y0, int64_t y1, std::vector<float>& buffer,
-                                    int threads) {
+                                    int threads, const ProgressSpan& progress) {
     const Shape& s = source.shape();
     const Shape band{s.frames, y1 - y0, s.width, s.channels};
     std::unique_ptr<Sequence> view;
@@ -53,7 +53,7 @@ std::unique_ptr<Sequence> band_view(const FrameSource& source, int64_t y0, int64
         buffer.resize(static_cast<size_t>(frame_floats * band.frames));
         parallel_for(band.frames, threads,
                      [&](int64_t f) { source.read_rows(f, y0, y1, buffer.data() + f * frame_floats); },
-                     {Progress(), 0, 1, "read"});
+                     progress);
         view = std::make_unique<Sequence>(buffer.data(), band, contiguous_strides(band));
     }
     view->frame_numbers() = source.attributes().frame_numbers();
@@ -175,12 +175,12 @@ void LowRankStage::run(const FrameSource& source, const FrameConsumer& consume, 
     // Pass 1: the Gram of every group, band by band.
     for (int64_t b = 0; b < bands; ++b) {
         const int64_t y0 = b * rows, y1 = std::min(s.height, y0 + rows);
-        auto band = band_view(source, y0, y1, buffer, ctx.threads);
-        repaired += check_nonfinite(*band, options_.nonfinite, y0);
         const double at = 0.4 * b / bands, span = 0.4 / bands;
+        auto band = band_view(source, y0, y1, buffer, ctx.threads, {progress, at, 0.5 * span, "read"});
+        repaired += check_nonfinite(*band, options_.nonfinite, y0);
         for (size_t g = 0; g < models.size(); ++g) {
             GroupModel& m = models[g];
-            series_of(g, *band).read({progress, at + span * g / models.size(), span / models.size(), "basis"},
+            series_of(g, *band).read({progress, at + span * (0.5 + 0.5 * g / models.size()), 0.5 * span / models.size(), "basis"},
                                      [&](const PreparedTile& t) { accumulate_gram(t, F, m.gram); m.series += t.n; });
         }
         if (keep) kept_band = std::move(band);
@@ -229,8 +229,8 @@ void LowRankStage::run(const FrameSource& source, const FrameConsumer& consume, 
     std::vector<double> a;
     for (int64_t b = 0; b < bands2; ++b) {
         const int64_t y0 = b * rows2, y1 = std::min(s.height, y0 + rows2);
-        auto band = keep ? std::move(kept_band) : band_view(source, y0, y1, buffer, ctx.threads);
         const double at = 0.4 + 0.3 * b / bands2, span = 0.3 / bands2;
+        auto band = keep ? std::move(kept_band) : band_view(source, y0, y1, buffer, ctx.threads, {progress, at, 0, "read"});
         for (size_t g = 0; g < models.size(); ++g) {
             GroupModel& m = models[g];
             const int64_t count = m.group.count, K = m.stored;
