@@ -112,7 +112,7 @@ protected:
             return;
         }
         if (params().get_string("motion_compensation") == "auto") {
-            run_motion_compensated(input, output, *weight, vectors, setup, progress);
+            run_motion_compensated(input, output, *weight, vectors, progress);
             return;
         }
         compute_beta(input, params(), maps);
@@ -173,7 +173,7 @@ private:
     // I_T where nothing moves, the motion-compensated average where things move (`moving`, 1 = moving),
     // aligned along the renderer's vectors when given, else along optical flow.
     void run_motion_compensated(const Sequence& input, Sequence& output, const Sequence& moving_map, const Sequence* vectors,
-                                const TemporalSetup& setup, const Progress& progress) {
+                                const Progress& progress) {
         const Shape& s = input.shape();
         run_temporal(input, output, {progress, 0.3, 0.15, "temporal"});
         // The first pass the warped samples are checked against: I_T with the light diffusion pass.
