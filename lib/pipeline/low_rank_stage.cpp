@@ -25,7 +25,8 @@ struct GroupModel {
     TemporalBasis basis;
     RankChoice choice;
     int64_t stored = 0;           // components kept per series (the rank, or max_rank per pixel)
-    std::vector<double> coeff;    // stored x n_total, component-major; series j = pixel * count + channel
+    std::vector<float> coeff;     // stored x n_total, component-major; series j = pixel * count + channel
+                                  // (float: the frames rebuilt from them are float; half the memory)
     std::vector<double> means;    // n_total
     SeriesPrep prep;              // the options' preparation with this group's transform scale fixed
     std::vector<double> linear_means;         // keep_mean: each series' mean before the transform ...
@@ -103,7 +104,7 @@ double LowRankStage::band_row_bytes(const Shape& s) const {
 double LowRankStage::fixed_bytes(const Shape& s, int64_t rank, int threads) const {
     const double P = static_cast<double>(s.pixels()), C = static_cast<double>(s.channels);
     const double stored = options_.per_pixel ? std::min<int64_t>(options_.max_rank, s.frames - 1) : rank;
-    double bytes = (stored + 1) * P * C * sizeof(double);                  // coefficients and means
+    double bytes = stored * P * C * sizeof(float) + P * C * sizeof(double);  // coefficients and means
     if (options_.prep.keep_mean) bytes += P * C * (sizeof(double) + 1 + sizeof(MeanCorrection));
     if (options_.per_pixel) bytes += (stored + 1) * P * sizeof(double) + P * (sizeof(int64_t) + sizeof(float));
     bytes += threads * P * C * (sizeof(double) + sizeof(float));           // one frame being rebuilt per thread
@@ -159,7 +160,9 @@ void LowRankStage::run(const FrameSource& source, const FrameConsumer& consume, 
     const auto fit_rows = static_cast<int64_t>((ctx.budget_bytes - fixed) / band_row_bytes(s));
     const int64_t rows = in_memory ? s.height : std::max<int64_t>(1, std::min(s.height, fit_rows));
     bool keep = rows >= s.height;
-    const double tile_budget = in_memory ? ctx.budget_bytes : band_row_bytes(s) * rows;
+    // The band's prepared tiles and the firefly search's tiles (one per thread) share the band's
+    // double allowance: half each.
+    const double tile_budget = in_memory ? ctx.budget_bytes : 0.5 * rows * s.frames * s.width * s.channels * sizeof(double);
     std::vector<float> buffer;
     int64_t repaired = 0;
 
@@ -197,7 +200,7 @@ void LowRankStage::run(const FrameSource& source, const FrameConsumer& consume, 
             m.stored = m.choice.rank;
         }
         const auto n_total = static_cast<size_t>(s.pixels() * m.group.count);
-        m.coeff.assign(static_cast<size_t>(m.stored) * n_total, 0.0);
+        m.coeff.assign(static_cast<size_t>(m.stored) * n_total, 0.0f);
         m.means.assign(n_total, 0.0);
         if (m.prep.keep_mean) {
             m.linear_means.assign(n_total, 0.0);
@@ -245,7 +248,8 @@ void LowRankStage::run(const FrameSource& source, const FrameConsumer& consume, 
                     std::copy(t.linear_means.begin(), t.linear_means.end(), m.linear_means.begin() + first);
                     std::copy(t.non_negative.begin(), t.non_negative.end(), m.non_negative.begin() + first);
                 }
-                for (int64_t i = 0; i < K; ++i) std::copy(a.begin() + i * n, a.begin() + (i + 1) * n, m.coeff.begin() + i * n_total + first);
+                for (int64_t i = 0; i < K; ++i)
+                    for (int64_t j = 0; j < n; ++j) m.coeff[static_cast<size_t>(i * n_total + first + j)] = static_cast<float>(a[i * n + j]);
                 if (!options_.per_pixel) return;
                 for (int64_t j = 0; j < n; ++j) {
                     const auto p = static_cast<int>(y0 * s.width + t.range.begin + j / count);
@@ -306,7 +310,7 @@ void LowRankStage::run(const FrameSource& source, const FrameConsumer& consume, 
             values.assign(static_cast<size_t>(n_total), 0.0);
             for (int64_t i = 0; i < m.stored; ++i) {
                 const double v = m.basis.vector(t, i);
-                const double* ai = m.coeff.data() + i * n_total;
+                const float* ai = m.coeff.data() + i * n_total;
                 if (m.ranks.empty()) {
                     for (int64_t j = 0; j < n_total; ++j) values[j] += v * ai[j];
                 } else {
