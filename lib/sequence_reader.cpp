@@ -227,10 +227,9 @@ FrameMetadata frame_metadata(const OIIO::ImageSpec& spec) {
     return out;
 }
 
-void read_frame(const std::string& path, const std::vector<Selected>& selection, Sequence& seq, int64_t f) {
-    auto in = open_image(path);
-    const FileLayout layout = read_layout(*in, path);
-    const Shape& shape = seq.shape();
+// Every frame must hold the first frame's selected channels at the first frame's size.
+void check_frame_layout(const FileLayout& layout, const std::vector<Selected>& selection, const Shape& shape,
+                        const std::string& path) {
     for (const Selected& sel : selection) {
         const auto s = static_cast<size_t>(sel.source.subimage);
         if (s >= layout.specs.size() || layout.specs[s].nchannels <= sel.source.index ||
@@ -242,6 +241,12 @@ void read_frame(const std::string& path, const std::vector<Selected>& selection,
                                                      std::to_string(spec.height) + ", the first frame is " +
                                                      std::to_string(shape.width) + " x " + std::to_string(shape.height));
     }
+}
+
+void read_frame(const std::string& path, const std::vector<Selected>& selection, Sequence& seq, int64_t f) {
+    auto in = open_image(path);
+    const FileLayout layout = read_layout(*in, path);
+    check_frame_layout(layout, selection, seq.shape(), path);
     const Strides& st = seq.strides();
     for (size_t c = 0; c < selection.size(); ++c) {
         const FileChannel& src = selection[c].source;
@@ -374,17 +379,7 @@ public:
 
 private:
     void check_layout(const FileLayout& layout, const std::string& path) const {
-        for (const Selected& sel : selection_) {
-            const auto s = static_cast<size_t>(sel.source.subimage);
-            if (s >= layout.specs.size() || layout.specs[s].nchannels <= sel.source.index ||
-                layout.specs[s].channel_name(sel.source.index) != sel.source.name)
-                throw Error(Status::NotFound, "'" + path + "' lacks channel '" + sel.source.name + "' found in the first frame");
-            const OIIO::ImageSpec& spec = layout.specs[s];
-            if (spec.width != shape_.width || spec.height != shape_.height)
-                throw Error(Status::InvalidArgument, "'" + path + "' is " + std::to_string(spec.width) + " x " +
-                                                         std::to_string(spec.height) + ", the first frame is " +
-                                                         std::to_string(shape_.width) + " x " + std::to_string(shape_.height));
-        }
+        check_frame_layout(layout, selection_, shape_, path);
     }
 
     FramePattern pattern_;
