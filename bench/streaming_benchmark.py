@@ -35,6 +35,7 @@ CONFIGS = [
     ("--quality fast", ["denoise", "--quality", "fast"], True, ALL),
     ("--method pca (log, automatic rank)", ["denoise", "--method", "pca"], False, ("1080p-32",)),
     ("--method error-threshold", ["denoise", "--method", "error-threshold"], False, ("1080p-32",)),
+    ("--quality fast --memory 3G", ["denoise", "--quality", "fast", "--memory", "3G"], False, ("1080p-200",)),
     ("--quality balanced", ["denoise", "--quality", "balanced"], True, ALL),
     ("--prefilter oidn", ["denoise", "--prefilter", "oidn"], False, ("1080p-32",)),
 ]
@@ -97,7 +98,8 @@ def run_shot(name, cli, work, threads_all, only_configs=None):
         # 1 thread against all on the 1080p x 32 shot; the long shots at all threads only
         both = threads_all > 1 and one_thread and name == "1080p-32"
         for threads in ([1, threads_all] if both else [threads_all]):
-            cmd = [cli, args[0], shot / "in.####.exr", out / "o.####.exr", *args[1:], *budget_args,
+            own_budget = [] if "--memory" in args else budget_args  # a row may name its own budget
+            cmd = [cli, args[0], shot / "in.####.exr", out / "o.####.exr", *args[1:], *own_budget,
                    "--threads", str(threads), "--quiet", "--overwrite"]
             env = None
             if threads == 1:  # the libraries' own pools too (OpenCV in the in-memory filters, OpenBLAS)
