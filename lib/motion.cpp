@@ -24,85 +24,101 @@ void dilate_plane(cv::Mat& plane, int radius) {
 
 }  // namespace
 
-std::shared_ptr<Sequence> global_motion_map(PreparedSeries& series, const TemporalBasis& basis, double noise_sigma,
-                                            const GlobalMotionOptions& o, const ProgressSpan& progress) {
-    const int64_t F = basis.frames;
-    const int64_t k = std::min<int64_t>(o.components, max_useful_rank(basis.series, F));
-    const int64_t channels = series.group().count;
-    // The first read fits each component's coefficients by alpha_i + beta_i * mean over all series.
-    std::vector<double> s1(k, 0), sm(k, 0), a;
-    double n = 0, m1 = 0, mm = 0;
-    std::vector<double> offset(k, 0), slope(k, 0);
-    const ProgressSpan first{progress.progress, progress.start, progress.span / 2, progress.stage};
-    const ProgressSpan second{progress.progress, progress.start + progress.span / 2, progress.span / 2, progress.stage};
-    if (k > 0 && o.ignore_global_light) {
-        series.read(first, [&](const PreparedTile& t) {
-            a.resize(static_cast<size_t>(k * t.n));
-            project_onto_basis(basis, k, t.tile.data(), t.n, a.data());
-            for (int64_t j = 0; j < t.n; ++j) {
-                const double mu = t.means[j];
-                n += 1;
-                m1 += mu;
-                mm += mu * mu;
-                for (int64_t i = 0; i < k; ++i) {
-                    s1[i] += a[i * t.n + j];
-                    sm[i] += a[i * t.n + j] * mu;
-                }
-            }
-        });
-        const double det = n * mm - m1 * m1;
-        for (int64_t i = 0; i < k; ++i) {
-            if (std::fabs(det) > 1e-300) {
-                slope[i] = (n * sm[i] - m1 * s1[i]) / det;
-                offset[i] = (s1[i] - slope[i] * m1) / n;
-            } else {
-                offset[i] = s1[i] / std::max(n, 1.0);
-            }
+GlobalMotionMap::GlobalMotionMap(const TemporalBasis& basis, double noise_sigma, const GlobalMotionOptions& o,
+                                 int64_t height, int64_t width, int64_t channels)
+    : basis_(basis), noise_sigma_(noise_sigma), o_(o), height_(height), width_(width), channels_(channels),
+      k_(std::min<int64_t>(o.components, max_useful_rank(basis.series, basis.frames))),
+      tail_components_(max_useful_rank(basis.series, basis.frames) - k_),
+      local_(o.local_noise && tail_components_ > 0),
+      s1_(static_cast<size_t>(k_), 0.0), sm_(static_cast<size_t>(k_), 0.0),
+      offset_(static_cast<size_t>(k_), 0.0), slope_(static_cast<size_t>(k_), 0.0),
+      energy_(static_cast<size_t>(height * width), 0.0), tail_(energy_.size(), 0.0) {}
+
+bool GlobalMotionMap::needs_light_fit() const { return k_ > 0 && o_.ignore_global_light; }
+
+void GlobalMotionMap::fit_light(const PreparedTile& t) {
+    // Each component's coefficients fitted by alpha_i + beta_i * mean over all series.
+    std::vector<double> a(static_cast<size_t>(k_ * t.n));
+    project_onto_basis(basis_, k_, t.tile.data(), t.n, a.data());
+    for (int64_t j = 0; j < t.n; ++j) {
+        const double mu = t.means[j];
+        n_ += 1;
+        m1_ += mu;
+        mm_ += mu * mu;
+        for (int64_t i = 0; i < k_; ++i) {
+            s1_[i] += a[i * t.n + j];
+            sm_[i] += a[i * t.n + j] * mu;
         }
     }
-    const Shape& shape = series.shape();
+}
+
+void GlobalMotionMap::finish_light_fit() {
+    const double det = n_ * mm_ - m1_ * m1_;
+    for (int64_t i = 0; i < k_; ++i) {
+        if (std::fabs(det) > 1e-300) {
+            slope_[i] = (n_ * sm_[i] - m1_ * s1_[i]) / det;
+            offset_[i] = (s1_[i] - slope_[i] * m1_) / n_;
+        } else {
+            offset_[i] = s1_[i] / std::max(n_, 1.0);
+        }
+    }
+}
+
+void GlobalMotionMap::add_energy(const PreparedTile& t, int64_t first_pixel) {
     // energy: what the k components hold beyond the light change; tail: what is left beyond them
     // (the pixel's own noise, as in the error threshold method).
-    std::vector<double> energy(static_cast<size_t>(shape.pixels()), 0.0), tail(energy.size(), 0.0);
-    const int64_t tail_components = max_useful_rank(basis.series, F) - k;
-    const bool local = o.local_noise && tail_components > 0;
-    if (k > 0)
-        series.read(second, [&](const PreparedTile& t) {
-            a.resize(static_cast<size_t>(k * t.n));
-            project_onto_basis(basis, k, t.tile.data(), t.n, a.data());
-            for (int64_t j = 0; j < t.n; ++j) {
-                double total = 0;
-                if (local)
-                    for (int64_t f = 0; f < F; ++f) total += t.tile[f * t.n + j] * t.tile[f * t.n + j];
-                for (int64_t i = 0; i < k; ++i) {
-                    const double r = a[i * t.n + j] - offset[i] - slope[i] * t.means[j];
-                    energy[t.range.begin + j / channels] += r * r;
-                    total -= a[i * t.n + j] * a[i * t.n + j];
-                }
-                tail[t.range.begin + j / channels] += std::max(total, 0.0);
-            }
-        });
+    if (k_ == 0) return;
+    const int64_t F = basis_.frames;
+    std::vector<double> a(static_cast<size_t>(k_ * t.n));
+    project_onto_basis(basis_, k_, t.tile.data(), t.n, a.data());
+    for (int64_t j = 0; j < t.n; ++j) {
+        double total = 0;
+        if (local_)
+            for (int64_t f = 0; f < F; ++f) total += t.tile[f * t.n + j] * t.tile[f * t.n + j];
+        const auto p = static_cast<size_t>(first_pixel + t.range.begin + j / channels_);
+        for (int64_t i = 0; i < k_; ++i) {
+            const double r = a[i * t.n + j] - offset_[i] - slope_[i] * t.means[j];
+            energy_[p] += r * r;
+            total -= a[i * t.n + j] * a[i * t.n + j];
+        }
+        tail_[p] += std::max(total, 0.0);
+    }
+}
+
+std::shared_ptr<Sequence> GlobalMotionMap::alpha() {
     // Pooled over a window, as in the error threshold method: one pixel's component energy at low
     // sample counts is mostly noise, a moving object covers many pixels.
     const auto pool = [&](std::vector<double>& v) {
-        cv::Mat m(static_cast<int>(shape.height), static_cast<int>(shape.width), CV_64F, v.data());
-        if (o.window > 1) cv::boxFilter(m, m, -1, cv::Size(o.window, o.window), cv::Point(-1, -1), true, cv::BORDER_REFLECT);
+        cv::Mat m(static_cast<int>(height_), static_cast<int>(width_), CV_64F, v.data());
+        if (o_.window > 1) cv::boxFilter(m, m, -1, cv::Size(o_.window, o_.window), cv::Point(-1, -1), true, cv::BORDER_REFLECT);
     };
-    pool(energy);
-    if (local) pool(tail);
+    pool(energy_);
+    if (local_) pool(tail_);
     // Pure noise puts about sigma^2 into each of the k components of each channel. Render noise is
     // far from uniform (pixels half on a wall, half on the empty background, get a few large samples
     // and zeros): where the pixel's own noise per component is higher, that is the unit.
-    const double noise_energy = std::max(noise_sigma * noise_sigma * static_cast<double>(k * channels), 1e-300);
-    auto alpha = std::make_shared<Sequence>(Shape{1, shape.height, shape.width, 1});
+    const double noise_energy = std::max(noise_sigma_ * noise_sigma_ * static_cast<double>(k_ * channels_), 1e-300);
+    auto alpha = std::make_shared<Sequence>(Shape{1, height_, width_, 1});
     alpha->channel_names()[0] = "alpha";
-    for (int64_t p = 0; p < shape.pixels(); ++p) {
-        const double own = local ? tail[p] / static_cast<double>(tail_components) * static_cast<double>(k) : 0.0;
-        const double r = energy[p] / std::max(noise_energy, own);
-        const double moving = std::clamp((r - o.low) / (o.high - o.low), 0.0, 1.0);
-        alpha->at(0, p / shape.width, p % shape.width, 0) = static_cast<float>(1.0 - moving);
+    for (int64_t p = 0; p < height_ * width_; ++p) {
+        const double own = local_ ? tail_[p] / static_cast<double>(tail_components_) * static_cast<double>(k_) : 0.0;
+        const double r = energy_[p] / std::max(noise_energy, own);
+        const double moving = std::clamp((r - o_.low) / (o_.high - o_.low), 0.0, 1.0);
+        alpha->at(0, p / width_, p % width_, 0) = static_cast<float>(1.0 - moving);
     }
     return alpha;
+}
+
+std::shared_ptr<Sequence> global_motion_map(PreparedSeries& series, const TemporalBasis& basis, double noise_sigma,
+                                            const GlobalMotionOptions& o, const ProgressSpan& progress) {
+    const Shape& shape = series.shape();
+    GlobalMotionMap map(basis, noise_sigma, o, shape.height, shape.width, series.group().count);
+    const ProgressSpan first{progress.progress, progress.start, progress.span / 2, progress.stage};
+    const ProgressSpan second{progress.progress, progress.start + progress.span / 2, progress.span / 2, progress.stage};
+    if (map.needs_light_fit()) series.read(first, [&](const PreparedTile& t) { map.fit_light(t); });
+    map.finish_light_fit();
+    series.read(second, [&](const PreparedTile& t) { map.add_energy(t, 0); });
+    return map.alpha();
 }
 
 std::shared_ptr<Sequence> local_motion_from_zscores(const Sequence& input, const LocalMotionOptions& o) {
@@ -190,68 +206,134 @@ void combine_max(Sequence& into, const Sequence& other) {
                     into.at(f, y, x, c) = std::max(into.at(f, y, x, c), other.at(f, y, x, c));
 }
 
-std::shared_ptr<Sequence> motion_from_temporal_change(const Sequence& input, const TemporalChangeOptions& o) {
-    const Shape& s = input.shape();
-    const int64_t F = s.frames, P = s.pixels();
-    auto map = std::make_shared<Sequence>(Shape{1, s.height, s.width, 1});
-    map->channel_names()[0] = "moving";
-    if (F < 3) return map;  // too few frames to tell motion from noise
-    // Luminance over each frame's mean level, median-filtered (5 x 5), in log(1 + l / m).
-    std::vector<cv::Mat> lum(static_cast<size_t>(F));
-    std::vector<double> level(static_cast<size_t>(F), 0.0);
-    for (int64_t f = 0; f < F; ++f) {
-        lum[f] = cv::Mat(static_cast<int>(s.height), static_cast<int>(s.width), CV_32F);
-        for (int64_t p = 0; p < P; ++p) {
+TemporalChange::TemporalChange(const Shape& shape, const TemporalChangeOptions& o)
+    : shape_(shape), o_(o), row_levels_(static_cast<size_t>(shape.frames * shape.height), 0.0),
+      sigma_(static_cast<size_t>(shape.pixels()), 0.0), centre_(sigma_.size(), 0.0),
+      map_(std::make_shared<Sequence>(Shape{1, shape.height, shape.width, 1})) {
+    map_->channel_names()[0] = "moving";
+}
+
+bool TemporalChange::active() const { return shape_.frames >= 3; }  // fewer: noise and motion look alike
+
+namespace {
+
+// Each frame's luminance (channel mean, non-negative, 0 where not finite) as float images.
+std::vector<cv::Mat> luminance(const Sequence& band) {
+    const Shape& b = band.shape();
+    std::vector<cv::Mat> lum(static_cast<size_t>(b.frames));
+    for (int64_t f = 0; f < b.frames; ++f) {
+        lum[f] = cv::Mat(static_cast<int>(b.height), static_cast<int>(b.width), CV_32F);
+        for (int64_t p = 0; p < b.pixels(); ++p) {
             double sum = 0;
-            for (int64_t c = 0; c < s.channels; ++c) sum += input.at(f, p / s.width, p % s.width, c);
-            const double l = std::isfinite(sum) ? std::max(0.0, sum / static_cast<double>(s.channels)) : 0.0;
+            for (int64_t c = 0; c < b.channels; ++c) sum += band.at(f, p / b.width, p % b.width, c);
+            const double l = std::isfinite(sum) ? std::max(0.0, sum / static_cast<double>(b.channels)) : 0.0;
             lum[f].at<float>(static_cast<int>(p)) = static_cast<float>(l);
-            level[f] += l;
         }
     }
+    return lum;
+}
+
+// Luminance over each frame's mean level, median-filtered (5 x 5), in log(1 + l / m).
+std::vector<cv::Mat> scores_domain(const Sequence& band, const std::vector<double>& gain, double unit, bool blur) {
+    std::vector<cv::Mat> lum = luminance(band);
+    for (size_t f = 0; f < lum.size(); ++f) {
+        if (blur) cv::medianBlur(lum[f], lum[f], 5);
+        for (int64_t p = 0; p < static_cast<int64_t>(lum[f].total()); ++p) {
+            float& v = lum[f].at<float>(static_cast<int>(p));
+            v = static_cast<float>(std::log1p(gain[f] * v / unit));
+        }
+    }
+    return lum;
+}
+
+}  // namespace
+
+void TemporalChange::add_levels(const Sequence& band, int64_t y0) {
+    if (!active()) return;
+    const Shape& b = band.shape();
+    const std::vector<cv::Mat> lum = luminance(band);
+    // Per row, summed over the rows in order once all are in: the same sums whatever the bands.
+    for (int64_t f = 0; f < b.frames; ++f)
+        for (int64_t y = 0; y < b.height; ++y) {
+            double sum = 0;
+            for (int64_t x = 0; x < b.width; ++x) sum += lum[f].at<float>(static_cast<int>(y), static_cast<int>(x));
+            row_levels_[static_cast<size_t>(f * shape_.height + y0 + y)] = sum;
+        }
+}
+
+void TemporalChange::finish_levels() {
+    if (!active()) return;
+    const int64_t F = shape_.frames;
+    gain_.assign(static_cast<size_t>(F), 1.0);
+    std::vector<double> level(static_cast<size_t>(F), 0.0);
+    for (int64_t f = 0; f < F; ++f)
+        for (int64_t y = 0; y < shape_.height; ++y) level[f] += row_levels_[static_cast<size_t>(f * shape_.height + y)];
     double mean_level = 0;
     for (double l : level) mean_level += l / static_cast<double>(F);
-    if (!(mean_level > 0)) return map;  // all zero: nothing moves
-    const double m = mean_level / static_cast<double>(P);
-    for (int64_t f = 0; f < F; ++f) {
-        const double gain = level[f] > 0 ? mean_level / level[f] : 1.0;
-        if (s.width >= 5 && s.height >= 5) cv::medianBlur(lum[f], lum[f], 5);
-        for (int64_t p = 0; p < P; ++p) {
-            float& v = lum[f].at<float>(static_cast<int>(p));
-            v = static_cast<float>(std::log1p(gain * v / m));
-        }
-    }
+    row_levels_.clear();
+    if (!(mean_level > 0)) return;  // all zero: nothing moves
+    unit_ = mean_level / static_cast<double>(shape_.pixels());
+    for (int64_t f = 0; f < F; ++f) gain_[f] = level[f] > 0 ? mean_level / level[f] : 1.0;
+}
+
+void TemporalChange::add_noise(const Sequence& band, int64_t y0, int64_t y1, int64_t top) {
+    if (!active() || !(unit_ > 0)) return;
+    const int64_t F = shape_.frames, W = shape_.width;
+    const std::vector<cv::Mat> lum = scores_domain(band, gain_, unit_, shape_.width >= 5 && shape_.height >= 5);
     // Each pixel's centre (temporal median) and noise (1.4826 MAD of its frame differences / sqrt 2).
-    std::vector<cv::Mat> z2(static_cast<size_t>(F));
-    for (auto& z : z2) z = cv::Mat(static_cast<int>(s.height), static_cast<int>(s.width), CV_32F);
-    std::vector<double> series(static_cast<size_t>(F)), diff(static_cast<size_t>(F - 1)), sigma(static_cast<size_t>(P));
-    std::vector<double> centre(static_cast<size_t>(P));
-    for (int64_t p = 0; p < P; ++p) {
-        for (int64_t f = 0; f < F; ++f) series[f] = lum[f].at<float>(static_cast<int>(p));
-        for (int64_t f = 1; f < F; ++f) diff[f - 1] = series[f] - series[f - 1];
-        const double dmed = median_of(diff);
-        for (double& d : diff) d = std::fabs(d - dmed);
-        sigma[p] = 1.4826 * median_of(diff) / std::sqrt(2.0);
-        centre[p] = median_of(series);
-    }
-    // A noise-free series has sigma 0: a floor far below any render noise keeps its score finite.
-    const double floor = 1e-6 + 1e-3 * median_of(sigma);
-    for (int64_t p = 0; p < P; ++p) {
-        const double sd = std::max(sigma[p], floor);
-        for (int64_t f = 0; f < F; ++f) {
-            const double z = (lum[f].at<float>(static_cast<int>(p)) - centre[p]) / sd;
-            z2[f].at<float>(static_cast<int>(p)) = static_cast<float>(std::min(z * z, 1e30));
+    std::vector<double> series(static_cast<size_t>(F)), diff(static_cast<size_t>(F - 1));
+    for (int64_t y = y0; y < y1; ++y)
+        for (int64_t x = 0; x < W; ++x) {
+            const int at = static_cast<int>((y - y0 + top) * W + x);
+            for (int64_t f = 0; f < F; ++f) series[f] = lum[f].at<float>(at);
+            for (int64_t f = 1; f < F; ++f) diff[f - 1] = series[f] - series[f - 1];
+            const double dmed = median_of(diff);
+            for (double& d : diff) d = std::fabs(d - dmed);
+            sigma_[static_cast<size_t>(y * W + x)] = 1.4826 * median_of(diff) / std::sqrt(2.0);
+            centre_[static_cast<size_t>(y * W + x)] = median_of(series);
         }
-    }
-    cv::Mat peak = cv::Mat::zeros(static_cast<int>(s.height), static_cast<int>(s.width), CV_32F);
+}
+
+void TemporalChange::finish_noise() {
+    // A noise-free series has sigma 0: a floor far below any render noise keeps its score finite.
+    if (active() && unit_ > 0) floor_ = 1e-6 + 1e-3 * median_of(sigma_);
+}
+
+void TemporalChange::add_scores(const Sequence& band, int64_t y0, int64_t y1, int64_t top) {
+    if (!active() || !(unit_ > 0)) return;
+    const int64_t F = shape_.frames, W = shape_.width, rows = band.shape().height;
+    const std::vector<cv::Mat> lum = scores_domain(band, gain_, unit_, shape_.width >= 5 && shape_.height >= 5);
+    // Squared scores on every row of the band the pixel's noise is known for (the band's own rows and
+    // its halo), median-filtered over 5 x 5 like the luminance.
+    const int64_t first = y0 - top;  // the band's first row in the frame
+    cv::Mat peak = cv::Mat::zeros(static_cast<int>(rows), static_cast<int>(W), CV_32F);
+    cv::Mat z2(static_cast<int>(rows), static_cast<int>(W), CV_32F);
     for (int64_t f = 0; f < F; ++f) {
-        if (s.width >= 5 && s.height >= 5) cv::medianBlur(z2[f], z2[f], 5);
-        peak = cv::max(peak, z2[f]);
+        for (int64_t r = 0; r < rows; ++r)
+            for (int64_t x = 0; x < W; ++x) {
+                const auto p = static_cast<size_t>((first + r) * W + x);
+                const double sd = std::max(sigma_[p], floor_);
+                const double z = (lum[f].at<float>(static_cast<int>(r * W + x)) - centre_[p]) / sd;
+                z2.at<float>(static_cast<int>(r), static_cast<int>(x)) = static_cast<float>(std::min(z * z, 1e30));
+            }
+        if (shape_.width >= 5 && shape_.height >= 5) cv::medianBlur(z2, z2, 5);
+        peak = cv::max(peak, z2);
     }
-    const double threshold2 = o.z_threshold * o.z_threshold;
-    for (int64_t p = 0; p < P; ++p)
-        map->at(0, p / s.width, p % s.width, 0) = peak.at<float>(static_cast<int>(p)) > threshold2 ? 1.0f : 0.0f;
-    return map;
+    const double threshold2 = o_.z_threshold * o_.z_threshold;
+    for (int64_t y = y0; y < y1; ++y)
+        for (int64_t x = 0; x < W; ++x)
+            map_->at(0, y, x, 0) = peak.at<float>(static_cast<int>(y - first), static_cast<int>(x)) > threshold2 ? 1.0f : 0.0f;
+}
+
+std::shared_ptr<Sequence> motion_from_temporal_change(const Sequence& input, const TemporalChangeOptions& o) {
+    const Shape& s = input.shape();
+    TemporalChange change(s, o);
+    change.add_levels(input, 0);
+    change.finish_levels();
+    change.add_noise(input, 0, s.height, 0);
+    change.finish_noise();
+    change.add_scores(input, 0, s.height, 0);
+    return change.map();
 }
 
 std::shared_ptr<Sequence> motion_from_vectors(const Sequence& vectors, double min_drift) {

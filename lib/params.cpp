@@ -249,4 +249,12 @@ double Results::get_float(const std::string& name) const {
 
 const std::string& Results::get_string(const std::string& name) const { return find(name).s; }
 
+void Results::copy(const Results& from, const std::string& name, const std::string& as) {
+    const ParamValue& v = from.find(name);
+    if (!values_.count(as)) names_.push_back(as);
+    values_[as] = v;
+    auto image = from.images_.find(name);
+    if (image != from.images_.end()) images_[as] = image->second;
+}
+
 }  // namespace statfilter

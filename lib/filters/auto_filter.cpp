@@ -22,11 +22,13 @@
 // `transform` other than `preset` replaces the preset's transform.
 // It says what it picked and why (results "method" and "reason").
 #include <cstdio>
+#include <mutex>
 #include <utility>
 #include <vector>
 
 #include "filters/builtin_filters.hpp"
 #include "filters/frame_stages.hpp"
+#include "filters/hybrid_stage.hpp"
 #include "filters/motion_analysis.hpp"
 #include "filters/temporal_params.hpp"
 #include "pipeline/low_rank_stage.hpp"
@@ -101,12 +103,13 @@ public:
     double min_bytes(const Shape& shape, int threads) const override { return inner_->min_bytes(shape, threads); }
     void run(const FrameSource& source, const FrameConsumer& consume, const StageContext& context,
              Results& results) override {
-        Results own;
-        inner_->run(source, consume, context, own);
+        // Known before the first frame, so the frames can say what made them.
         results.set("method", choice_.method);
         results.set("reason", choice_.reason);
         results.set("quality", "fast");
         results.set("transform", transform_);
+        Results own;
+        inner_->run(source, consume, context, own);
         add_stage_results(choice_.method, own, results);
     }
 
@@ -114,6 +117,56 @@ private:
     std::unique_ptr<StreamStage> inner_;
     Choice choice_;
     std::string transform_;
+};
+
+// balanced (and high without OIDN) streamed: the hybrid's stage decides still or moving once, from
+// one analysis, and the preset's choice and reason are reported from what it found.
+class MotionPresetStage final : public StreamStage {
+public:
+    MotionPresetStage(HybridStageOptions options, std::string quality, std::string transform, double still_fraction)
+        : refine_(options.refine_after), stage_(std::move(options)), quality_(std::move(quality)),
+          transform_(std::move(transform)), still_fraction_(still_fraction) {}
+    Footprint footprint() const override { return stage_.footprint(); }
+    double min_bytes(const Shape& shape, int threads) const override { return stage_.min_bytes(shape, threads); }
+    void run(const FrameSource& source, const FrameConsumer& consume, const StageContext& context,
+             Results& results) override {
+        Results own;
+        // The choice is made once the statistics are in, before the first frame: reported then, so
+        // the frames can say what made them.
+        std::once_flag decided;
+        bool still = false;
+        const auto report = [&] {
+            const double moving = own.get_float("motion_fraction");
+            still = moving < still_fraction_;
+            const Choice choice = choose(quality_, moving, still, false, false, "");
+            std::string picked = choice.method;
+            if (refine_) picked += std::string(" then ") + kRefinePostfilter;
+            results.set("motion_fraction", moving);
+            results.set("method", picked);
+            results.set("reason", choice.reason);
+            results.set("quality", quality_);
+            results.set("transform", transform_);
+        };
+        stage_.run(source, [&](int64_t f, float* pixels) {
+            std::call_once(decided, report);
+            consume(f, pixels);
+        }, context, own);
+        std::call_once(decided, report);  // a shot of no frames
+        for (const auto& name : own.names()) {
+            if (name == "alpha") continue;
+            // The still scene's global PCA reports its rank as pca's.
+            if (still && name == "temporal_rank") results.copy(own, name, "pca.rank");
+            else if (!still) results.copy(own, name, "hybrid." + name);
+        }
+        results.copy(own, "alpha", "alpha");
+        results.copy(own, "bands", "bands");
+    }
+
+private:
+    bool refine_;
+    HybridStage stage_;
+    std::string quality_, transform_;
+    double still_fraction_;
 };
 
 class AutoFilter final : public Filter {
@@ -145,10 +198,22 @@ public:
         return p;
     }
 
-    // quality fast needs no analysis: it is global PCA, which streams. The other qualities measure the
-    // motion first and run on the shot in memory (docs/architecture.md, "What streams").
+    // quality fast needs no analysis: it is global PCA, which streams. balanced, and high where OIDN
+    // cannot run, are the hybrid's stage (it measures the motion in its statistics passes), which
+    // streams unless renderer passes are to be read alongside; high with OIDN holds the shot
+    // (docs/architecture.md, "What streams").
     std::unique_ptr<StreamStage> stream_stage() const override {
-        if (params().get_string("quality") != "fast") return nullptr;
+        const std::string quality = params().get_string("quality");
+        if (quality != "fast") {
+            const bool want_oidn = quality == "high" && params().get_string("prefilter").empty();
+            if (want_oidn && oidn_problem().empty()) return nullptr;
+            const ParamSet hybrid = hybrid_params();
+            if (!hybrid_streams(hybrid, input("vectors") != nullptr)) return nullptr;
+            HybridStageOptions options = hybrid_stage_options(hybrid);
+            options.refine_after = params().get_string("postfilter").empty();  // else Filter::execute runs the user's
+            return std::make_unique<MotionPresetStage>(std::move(options), quality, resolved_transform(),
+                                                       params().get_float("still_fraction"));
+        }
         ParamSet pca = create_filter("pca")->params();
         for (const char* name : {"nonfinite", "shared_basis", "memory_mb"}) pca.set_string(name, params().get_string(name));
         pca.set_string("transform", fast_transform());
@@ -161,6 +226,31 @@ public:
     }
 
 private:
+    // The preset's transform: fast's, or log, unless the user named one.
+    std::string resolved_transform() const {
+        const std::string& t = params().get_string("transform");
+        if (t != "preset") return t;
+        return params().get_string("quality") == "fast" ? fast_transform() : "log";
+    }
+
+    // The hybrid's parameters as balanced or high (without OIDN) runs it: its defaults, the user's
+    // temporal and motion parameters (high: with the albedo/normal passes), the preset's settings.
+    ParamSet hybrid_params() const {
+        ParamSet p = create_filter("hybrid")->params();
+        const std::string quality = params().get_string("quality");
+        for (const char* name : {"transform_scale", "firefly_z", "keep_mean", "nonfinite", "shared_basis", "memory_mb", "still_fraction"})
+            p.set_string(name, params().get_string(name));
+        p.set_string("transform", resolved_transform());
+        for (const auto& spec : motion_params())
+            if (quality == "high" || (spec.name != "albedo" && spec.name != "normal"))
+                p.set_string(spec.name, params().get_string(spec.name));
+        if (quality == "balanced") {
+            p.set_string("mc_flow", "ultrafast");
+            p.set_string("mc_half_width", "4");
+        }
+        return p;
+    }
+
     // The transform of quality fast: none (raw values measured best for global PCA), unless named.
     std::string fast_transform() const {
         const std::string& t = params().get_string("transform");
@@ -170,6 +260,12 @@ private:
 protected:
     void run(const Sequence& input, Sequence& output, const Progress& progress) override {
         const std::string quality = params().get_string("quality");
+        if (quality != "fast")
+            if (auto stage = stream_stage()) {
+                run_in_memory(*stage, input, output, progress, params().get_float("memory_mb") * 1024.0 * 1024.0,
+                              mutable_results());
+                return;
+            }
         Choice choice;
         std::shared_ptr<Sequence> alpha;
         // The transform: the preset's unless the user named one.

@@ -67,13 +67,7 @@ std::unique_ptr<Filter> make_frame_stage(const std::string& stage, const ParamSe
 }
 
 void add_stage_results(const std::string& stage, const Results& own, Results& results) {
-    for (const auto& result : own.names()) {
-        try {
-            results.set(stage + "." + result, own.get_float(result));
-        } catch (const Error&) {  // a text result
-            results.set(stage + "." + result, own.get_string(result));
-        }
-    }
+    for (const auto& result : own.names()) results.copy(own, result, stage + "." + result);
 }
 
 void run_frame_stage(const std::string& stage, const ParamSet& params, const Sequence& input, Sequence& output,

@@ -20,6 +20,7 @@
 
 #include "filters/builtin_filters.hpp"
 #include "filters/frame_stages.hpp"
+#include "filters/hybrid_stage.hpp"
 #include "filters/low_rank_reconstruction.hpp"
 #include "filters/motion_analysis.hpp"
 #include "filters/temporal_params.hpp"
@@ -85,8 +86,23 @@ public:
         return p;
     }
 
+    // With motion compensation and no renderer pass to read alongside, the hybrid streams
+    // (filters/hybrid_stage.hpp); otherwise it holds the shot.
+    std::unique_ptr<StreamStage> stream_stage() const override {
+        if (!hybrid_streams(params(), input("vectors") != nullptr)) return nullptr;
+        return std::make_unique<HybridStage>(hybrid_stage_options(params()));
+    }
+    Footprint footprint() const override {
+        auto stage = stream_stage();
+        return stage ? stage->footprint() : Footprint{};
+    }
+
 protected:
     void run(const Sequence& input, Sequence& output, const Progress& progress) override {
+        if (auto stage = stream_stage()) {
+            run_in_memory(*stage, input, output, progress, params().get_float("memory_mb") * 1024.0 * 1024.0, mutable_results());
+            return;
+        }
         const Shape& s = input.shape();
         const TemporalSetup setup = temporal_setup(params());
         check_nonfinite(input, setup.nonfinite);

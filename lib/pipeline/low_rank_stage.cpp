@@ -10,6 +10,7 @@
 
 #include "filters/low_rank_reconstruction.hpp"
 #include "filters/temporal_params.hpp"
+#include "pipeline/band_view.hpp"
 #include "pipeline/memory_budget.hpp"
 #include "pipeline/parallel.hpp"
 #include "statfilter/error.hpp"
@@ -36,31 +37,6 @@ struct GroupModel {
     std::vector<cv::Mat> planes;  // error threshold: pooled coefficient energy per component, and beyond
     cv::Mat tail;
 };
-
-// A band of rows [y0, y1) of every frame, as a sequence: a view of the source's memory when it
-// holds the shot, else read into buffer (frames in parallel).
-std::unique_ptr<Sequence> band_view(const FrameSource& source, int64_t y0, int64_t y1, std::vector<float>& buffer,
-                                    int threads, const ProgressSpan& progress) {
-    const Shape& s = source.shape();
-    const Shape band{s.frames, y1 - y0, s.width, s.channels};
-    std::unique_ptr<Sequence> view;
-    if (const Sequence* whole = source.in_memory()) {
-        const Strides& st = whole->strides();
-        float* origin = const_cast<float*>(whole->data());  // read only: PreparedSeries never writes its input
-        view = std::make_unique<Sequence>(
-            reinterpret_cast<float*>(reinterpret_cast<char*>(origin) + y0 * st.row), band, st);
-    } else {
-        const int64_t frame_floats = band.pixels() * band.channels;
-        buffer.resize(static_cast<size_t>(frame_floats * band.frames));
-        parallel_for(band.frames, threads,
-                     [&](int64_t f) { source.read_rows(f, y0, y1, buffer.data() + f * frame_floats); },
-                     progress);
-        view = std::make_unique<Sequence>(buffer.data(), band, contiguous_strides(band));
-    }
-    view->frame_numbers() = source.attributes().frame_numbers();
-    view->channel_names() = source.attributes().channel_names();
-    return view;
-}
 
 void pool(cv::Mat& plane, int window) {
     if (window > 1) cv::boxFilter(plane, plane, -1, cv::Size(window, window), cv::Point(-1, -1), true, cv::BORDER_REFLECT);
@@ -118,13 +94,18 @@ double LowRankStage::min_bytes(const Shape& s, int threads) const {
 }
 
 void LowRankStage::run(const FrameSource& source, const FrameConsumer& consume, const StageContext& ctx, Results& results) {
+    reconstruct(source, statistics(source, ctx), consume, ctx, results);
+}
+
+LowRankStatistics LowRankStage::statistics(const FrameSource& source, const StageContext& ctx, const BandVisitor& also) const {
     const Shape& s = source.shape();
     const int64_t F = s.frames;
     const Progress none;
     const Progress& progress = ctx.progress ? *ctx.progress : none;
-    std::vector<GroupModel> models;
+    LowRankStatistics stats;
+    std::vector<LowRankStatistics::Group>& models = stats.groups;
     for (const ChannelSelection& g : basis_groups(s, options_.shared_basis)) {
-        GroupModel m;
+        LowRankStatistics::Group m;
         m.group = g;
         m.gram.assign(static_cast<size_t>(F * F), 0.0);
         models.push_back(std::move(m));
@@ -133,7 +114,7 @@ void LowRankStage::run(const FrameSource& source, const FrameConsumer& consume, 
     // transform_level_frames picks, read here when the shot is not in memory), so every band and tile
     // sees the same transform.
     std::unique_ptr<Sequence> level_frames;
-    for (GroupModel& m : models) {
+    for (LowRankStatistics::Group& m : models) {
         m.prep = options_.prep;
         if (m.prep.scale > 0 || m.prep.transform == ValueTransform::None) continue;
         const Sequence* probe = source.in_memory();
@@ -162,31 +143,57 @@ void LowRankStage::run(const FrameSource& source, const FrameConsumer& consume, 
     bool keep = rows >= s.height;
     // The band's prepared tiles and the firefly search's tiles (one per thread) share the band's
     // double allowance: half each.
-    const double tile_budget = in_memory ? ctx.budget_bytes : 0.5 * rows * s.frames * s.width * s.channels * sizeof(double);
-    std::vector<float> buffer;
-    int64_t repaired = 0;
-
-    std::vector<std::unique_ptr<PreparedSeries>> cached(models.size());
-    std::unique_ptr<Sequence> kept_band;
-    auto series_of = [&](size_t g, const Sequence& band) -> PreparedSeries& {
-        if (!cached[g] || !keep)
-            cached[g] = std::make_unique<PreparedSeries>(band, models[g].group, models[g].prep, tile_budget, 3);
-        return *cached[g];
-    };
+    stats.tile_budget = in_memory ? ctx.budget_bytes : 0.5 * rows * s.frames * s.width * s.channels * sizeof(double);
+    stats.rows = rows;
+    stats.keep = keep;
+    stats.cached.resize(models.size());
     const int64_t bands = (s.height + rows - 1) / rows;
+    stats.bands = bands;
 
     // Pass 1: the Gram of every group, band by band.
     for (int64_t b = 0; b < bands; ++b) {
         const int64_t y0 = b * rows, y1 = std::min(s.height, y0 + rows);
         const double at = 0.4 * b / bands, span = 0.4 / bands;
-        auto band = band_view(source, y0, y1, buffer, ctx.threads, {progress, at, 0.5 * span, "read"});
-        repaired += check_nonfinite(*band, options_.nonfinite, y0);
+        auto band = band_view(source, y0, y1, stats.buffer, ctx.threads, {progress, at, 0.5 * span, "read"});
+        stats.repaired += check_nonfinite(*band, options_.nonfinite, y0);
+        if (also) also(*band, y0);
         for (size_t g = 0; g < models.size(); ++g) {
-            GroupModel& m = models[g];
-            series_of(g, *band).read({progress, at + span * (0.5 + 0.5 * g / models.size()), 0.5 * span / models.size(), "basis"},
-                                     [&](const PreparedTile& t) { accumulate_gram(t, F, m.gram); m.series += t.n; });
+            LowRankStatistics::Group& m = models[g];
+            stats.series(g, *band).read({progress, at + span * (0.5 + 0.5 * g / models.size()), 0.5 * span / models.size(), "basis"},
+                                        [&](const PreparedTile& t) { accumulate_gram(t, F, m.gram); m.series += t.n; });
         }
-        if (keep) kept_band = std::move(band);
+        if (keep) stats.kept_band = std::move(band);
+    }
+    return stats;
+}
+
+PreparedSeries& LowRankStatistics::series(size_t g, const Sequence& band) {
+    if (!cached[g] || !keep) cached[g] = std::make_unique<PreparedSeries>(band, groups[g].group, groups[g].prep, tile_budget, 3);
+    return *cached[g];
+}
+
+void LowRankStage::reconstruct(const FrameSource& source, LowRankStatistics stats, const FrameConsumer& consume,
+                               const StageContext& ctx, Results& results) const {
+    const Shape& s = source.shape();
+    const int64_t F = s.frames;
+    const Progress none;
+    const Progress& progress = ctx.progress ? *ctx.progress : none;
+    const bool in_memory = source.in_memory() != nullptr;
+    const int64_t rows = stats.rows, bands = stats.bands;
+    bool keep = stats.keep;
+    std::vector<float>& buffer = stats.buffer;
+    std::unique_ptr<Sequence>& kept_band = stats.kept_band;
+    std::vector<std::unique_ptr<PreparedSeries>>& cached = stats.cached;
+    const int64_t repaired = stats.repaired;
+    auto series_of = [&](size_t g, const Sequence& band) -> PreparedSeries& { return stats.series(g, band); };
+    std::vector<GroupModel> models;
+    for (LowRankStatistics::Group& g : stats.groups) {
+        GroupModel m;
+        m.group = g.group;
+        m.gram = std::move(g.gram);
+        m.series = g.series;
+        m.prep = g.prep;
+        models.push_back(std::move(m));
     }
     for (GroupModel& m : models) {
         m.basis = basis_from_gram(std::move(m.gram), F, m.series);
@@ -217,7 +224,7 @@ void LowRankStage::run(const FrameSource& source, const FrameConsumer& consume, 
         for (const GroupModel& m : models) most = std::max(most, m.stored);
         const double held = fixed_bytes(s, most, ctx.threads);
         if (keep && held + band_row_bytes(s) * rows > ctx.budget_bytes) {
-            keep = false;
+            keep = stats.keep = false;
             kept_band.reset();
             for (auto& c : cached) c.reset();
         }

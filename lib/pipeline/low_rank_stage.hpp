@@ -35,6 +35,32 @@ struct LowRankOptions {
     int window = 9;
 };
 
+// What the statistics pass found: each channel group's transform scale, Gram and series count, and
+// how the shot was cut into bands. When the shot fits in one band, the band (and its prepared tiles)
+// is kept here for the passes that follow: the shot is read once.
+struct LowRankStatistics {
+    struct Group {
+        ChannelSelection group;
+        SeriesPrep prep;  // the options' preparation with this group's transform scale fixed
+        std::vector<double> gram;
+        int64_t series = 0;
+    };
+    std::vector<Group> groups;
+    int64_t rows = 0, bands = 0;  // band height and count of the statistics pass
+    bool keep = false;            // one band, kept
+    double tile_budget = 0;       // bytes a band's prepared tiles may take
+    int64_t repaired = 0;         // non-finite samples repaired
+    std::vector<float> buffer;    // the band read (when the source does not hold the shot)
+    std::unique_ptr<Sequence> kept_band;
+    std::vector<std::unique_ptr<PreparedSeries>> cached;
+    // Group g's prepared series over a band: the kept one, or made for this band.
+    PreparedSeries& series(size_t g, const Sequence& band);
+};
+
+// Sees every band of the statistics pass (rows [y0, y0 + band.height) of every frame), so another
+// statistic can be gathered in the same read.
+using BandVisitor = std::function<void(const Sequence& band, int64_t y0)>;
+
 class LowRankStage final : public StreamStage {
 public:
     explicit LowRankStage(LowRankOptions options) : options_(std::move(options)) {}
@@ -45,6 +71,13 @@ public:
     // mean_rank and the image rank_map), noise_sigma, nonfinite_repaired.
     void run(const FrameSource& source, const FrameConsumer& consume, const StageContext& context,
              Results& results) override;
+
+    // The two halves of run, for a stage that gathers more statistics in between (the hybrid's
+    // motion analysis shares the Gram): the statistics pass, then the reconstruction from it.
+    LowRankStatistics statistics(const FrameSource& source, const StageContext& context, const BandVisitor& also = {}) const;
+    void reconstruct(const FrameSource& source, LowRankStatistics statistics, const FrameConsumer& consume,
+                     const StageContext& context, Results& results) const;
+    const LowRankOptions& options() const { return options_; }
 
     // Bytes held besides the band for a shape, with `rank` components kept per series.
     double fixed_bytes(const Shape& shape, int64_t rank, int threads) const;

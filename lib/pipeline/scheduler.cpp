@@ -2,6 +2,7 @@
 #include "pipeline/scheduler.hpp"
 
 #include <algorithm>
+#include <mutex>
 #include <vector>
 
 #include "filters/frame_stages.hpp"
@@ -21,6 +22,11 @@ std::string shot_text(const Shape& s) {
 }
 
 }  // namespace
+
+void Filter::set_provenance(FrameSink& sink) const {
+    for (const char* name : {"method", "reason"})
+        if (results_.has(name)) sink.set_attribute(std::string("statfilter:") + name, results_.get_string(name));
+}
 
 void Filter::check() const {
     for (const char* stage : {"prefilter", "postfilter"})
@@ -73,7 +79,10 @@ void Filter::execute(const FrameSource& source, FrameSink& sink, const RunOption
         context.threads = threads;
         context.budget_bytes = budget - frame_stages;
         context.progress = &stage_progress;
+        // What a preset picked is known before its first frame is handed on: the frames say so.
+        std::once_flag provenance;
         stage->run(*input, [&](int64_t f, float* pixels) {
+            std::call_once(provenance, [&] { set_provenance(sink); });
             if (post) postfilter->apply(f, pixels, s, source.attributes());
             sink.write_frame(f, pixels);
         }, context, results_);
@@ -98,9 +107,7 @@ void Filter::execute(const FrameSource& source, FrameSink& sink, const RunOption
             progress.report(0.2 + 0.7 * fraction, name);
             return true;
         }));
-        for (const char* name : {"method", "reason"})
-            if (std::find(results_.names().begin(), results_.names().end(), name) != results_.names().end())
-                sink.set_attribute(std::string("statfilter:") + name, results_.get_string(name));
+        set_provenance(sink);
         parallel_for(s.frames, threads, [&](int64_t f) { sink.write_frame(f, &output.at(f, 0, 0, 0)); },
                      {progress, 0.9, 0.1, "write"});
     }

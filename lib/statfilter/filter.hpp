@@ -72,6 +72,8 @@ protected:
     Results& mutable_results() { return results_; }
 
 private:
+    // The frames' provenance: what a preset picked and why (results method and reason).
+    void set_provenance(FrameSink& sink) const;
     ParamSet params_;
     Results results_;
     std::map<std::string, const Sequence*> inputs_;

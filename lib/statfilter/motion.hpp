@@ -12,6 +12,7 @@
 #pragma once
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "statfilter/prepared_series.hpp"
 #include "statfilter/temporal_basis.hpp"
@@ -24,6 +25,29 @@ struct GlobalMotionOptions {
     bool ignore_global_light = true;
     double low = 2.0, high = 8.0;  // ramp from alpha 1 to 0, in multiples of the noise energy
     int window = 5;                // side of the box the energy is averaged over
+};
+
+// alpha from passes over the prepared tiles, in any tiling: a fit of the light change (when
+// ignore_global_light, needs_light_fit), then the energies; tiles may come from bands of the shot
+// (first_pixel: the band's first pixel in the frame).
+class GlobalMotionMap {
+public:
+    GlobalMotionMap(const TemporalBasis& basis, double noise_sigma, const GlobalMotionOptions& options, int64_t height,
+                    int64_t width, int64_t channels);
+    bool needs_light_fit() const;
+    void fit_light(const PreparedTile& tile);
+    void finish_light_fit();
+    void add_energy(const PreparedTile& tile, int64_t first_pixel);
+    std::shared_ptr<Sequence> alpha();  // once every tile's energy is in
+
+private:
+    const TemporalBasis& basis_;
+    double noise_sigma_;
+    GlobalMotionOptions o_;
+    int64_t height_, width_, channels_, k_, tail_components_;
+    bool local_;
+    double n_ = 0, m1_ = 0, mm_ = 0;
+    std::vector<double> s1_, sm_, offset_, slope_, energy_, tail_;
 };
 
 // alpha as a 1-frame, 1-channel sequence.
@@ -59,6 +83,31 @@ struct TemporalChangeOptions {
     double z_threshold = 5.0;
 };
 std::shared_ptr<Sequence> motion_from_temporal_change(const Sequence& input, const TemporalChangeOptions& options);
+
+// The same test in passes over bands of rows of every frame (each band read with kHalo rows above
+// and below where the frame has them: the two 5 x 5 median filters reach 4 rows): the frames' light
+// levels, then each pixel's centre and noise, then the scores. Any banding gives the same map.
+class TemporalChange {
+public:
+    static constexpr int64_t kHalo = 4;
+    TemporalChange(const Shape& shape, const TemporalChangeOptions& options);
+    // band: rows [y0, y0 + band height) of every frame, no halo.
+    void add_levels(const Sequence& band, int64_t y0);
+    void finish_levels();
+    // band: rows [y0 - top, ...) of every frame, holding [y0, y1) and up to kHalo rows either side.
+    void add_noise(const Sequence& band, int64_t y0, int64_t y1, int64_t top);
+    void finish_noise();
+    void add_scores(const Sequence& band, int64_t y0, int64_t y1, int64_t top);
+    std::shared_ptr<Sequence> map() const { return map_; }
+
+private:
+    bool active() const;
+    Shape shape_;
+    TemporalChangeOptions o_;
+    std::vector<double> row_levels_, gain_, sigma_, centre_;
+    double unit_ = 0, floor_ = 0;
+    std::shared_ptr<Sequence> map_;
+};
 
 // Where the renderer's motion vectors (Cycles' Vector pass, X, Y, Z, W in pixels) carry a pixel `drift`
 // pixels or more over the shot (its steps to the next frame summed): 1-frame, 1-channel map of 0/1.

@@ -80,6 +80,9 @@ public:
     double get_float(const std::string& name) const;
     const std::string& get_string(const std::string& name) const;
     const std::vector<std::string>& names() const { return names_; }
+    bool has(const std::string& name) const { return values_.count(name) != 0; }
+    // Result `name` of `from` as `as`, its type (number, text, image) kept.
+    void copy(const Results& from, const std::string& name, const std::string& as);
 
 private:
     const ParamValue& find(const std::string& name) const;

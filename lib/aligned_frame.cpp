@@ -1,0 +1,256 @@
+#include "statfilter/aligned_frame.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+
+#include <opencv2/core.hpp>
+#include <opencv2/video/tracking.hpp>
+
+#include "statfilter/error.hpp"
+
+namespace statfilter {
+namespace {
+
+// DIS (Kroeger et al. 2016) needs a few of its 8-pixel patches across the frame; below this the flow
+// is taken as zero (a frame that small has nothing to align).
+constexpr int64_t kMinFlowSide = 16;
+
+// A luminance-like mix of a pixel's first three channels (a shorter one repeats its last).
+inline double mix3(const float* px, int64_t channels) {
+    const auto c = [&](int64_t i) { return static_cast<double>(px[std::min(i, channels - 1)]); };
+    return 0.3 * c(0) + 0.5 * c(1) + 0.2 * c(2);
+}
+
+int dis_preset(FlowPreset preset) {
+    switch (preset) {
+        case FlowPreset::UltraFast: return cv::DISOpticalFlow::PRESET_ULTRAFAST;
+        case FlowPreset::Fast: return cv::DISOpticalFlow::PRESET_FAST;
+        case FlowPreset::Medium: break;
+    }
+    return cv::DISOpticalFlow::PRESET_MEDIUM;
+}
+
+// Bilinear sample of channel c of an interleaved (row, pixel, channel) frame; (fx, fy) inside the frame.
+inline float bilinear(const float* frame, int64_t width, int64_t height, int64_t channels, float fx, float fy, int64_t c) {
+    const int64_t x0 = static_cast<int64_t>(fx), y0 = static_cast<int64_t>(fy);
+    const int64_t x1 = std::min(x0 + 1, width - 1), y1 = std::min(y0 + 1, height - 1);
+    const float ax = fx - static_cast<float>(x0), ay = fy - static_cast<float>(y0);
+    const auto v = [&](int64_t x, int64_t y) { return frame[(y * width + x) * channels + c]; };
+    return (1 - ay) * ((1 - ax) * v(x0, y0) + ax * v(x1, y0)) + ay * ((1 - ax) * v(x0, y1) + ax * v(x1, y1));
+}
+
+// Cycles' Vector pass, X, Y, Z, W per pixel in pixels with Y pointing up: the surface point seen at
+// (x, y) (rows counted downward) is at (x + X, y - Y) in the previous frame and at (x - Z, y + W) in
+// the next (measured on the renders, docs/methods.md). The step from `frame` one frame in direction
+// `dir` (-1 previous, +1 next), read bilinearly at (fx, fy) inside the frame.
+inline cv::Vec2f vector_step(const float* vectors, int64_t width, int64_t height, int64_t frame, int dir, float fx, float fy) {
+    const float* v = vectors + frame * width * height * 4;
+    if (dir < 0) return {bilinear(v, width, height, 4, fx, fy, 0), -bilinear(v, width, height, 4, fx, fy, 1)};
+    return {-bilinear(v, width, height, 4, fx, fy, 2), bilinear(v, width, height, 4, fx, fy, 3)};
+}
+
+inline bool inside(int64_t width, int64_t height, const cv::Vec2f& q) {
+    return q[0] >= 0 && q[1] >= 0 && q[0] <= static_cast<float>(width - 1) && q[1] <= static_cast<float>(height - 1);
+}
+
+// Moves `where` (a surface point in `frame`) one frame in direction `dir` along the vectors; false when
+// it leaves the frame or the step fails the forward-backward check: the vector back from where it lands
+// must return it (|d + b|^2 <= 0.01 (|d|^2 + |b|^2) + 0.5, Sundaram et al. 2010). Where a surface is
+// occluded in the next frame, or uncovered in this one, the two vectors belong to different surfaces.
+inline bool follow_vectors(const float* vectors, int64_t width, int64_t height, int64_t frame, int dir, cv::Vec2f& where) {
+    const cv::Vec2f d = vector_step(vectors, width, height, frame, dir, where[0], where[1]);
+    const cv::Vec2f q = where + d;
+    if (!(std::isfinite(q[0]) && std::isfinite(q[1])) || !inside(width, height, q)) return false;
+    const cv::Vec2f b = vector_step(vectors, width, height, frame + dir, -dir, q[0], q[1]);
+    const cv::Vec2f e = d + b;
+    if (!(e.dot(e) <= 0.01f * (d.dot(d) + b.dot(b)) + 0.5f)) return false;
+    where = q;
+    return true;
+}
+
+// The percentile the flow images are scaled by.
+constexpr double kGuideQuantile = 0.995;
+constexpr int64_t kGuideStride = 7;  // every 7th sample: plenty for a percentile, and cheap
+
+inline uint32_t bits_of(float v) {
+    uint32_t b;
+    std::memcpy(&b, &v, sizeof b);
+    return b;
+}
+
+}  // namespace
+
+void aligned_values(const float* input, int64_t count, double gain, ValueTransform transform, float* out) {
+    std::vector<double> row(static_cast<size_t>(count));
+    for (int64_t i = 0; i < count; ++i) row[static_cast<size_t>(i)] = input[i] / gain;
+    forward_transform(transform, row.data(), row.size());
+    for (int64_t i = 0; i < count; ++i) out[i] = static_cast<float>(row[static_cast<size_t>(i)]);
+}
+
+void aligned_guide(const float* estimate, int64_t count, double gain, double mean, float* out) {
+    for (int64_t i = 0; i < count; ++i) out[i] = static_cast<float>(std::log1p(std::max(0.0, estimate[i] / gain / mean)));
+}
+
+double positive_sum(const float* frame, int64_t count) {
+    double sum = 0;
+    for (int64_t i = 0; i < count; ++i)
+        if (frame[i] > 0 && std::isfinite(frame[i])) sum += frame[i];
+    return sum;
+}
+
+double estimate_mean(double sum, int64_t samples) { return sum > 0 ? sum / static_cast<double>(samples) : 1.0; }
+
+void flow_image(const float* frame, int64_t width, int64_t height, int64_t channels, double scale, uint8_t* out) {
+    const int64_t groups = std::max<int64_t>(1, channels / 3);
+    for (int64_t p = 0; p < width * height; ++p) {
+        double v = 0;
+        for (int64_t k = 0; k < groups; ++k) v += mix3(frame + p * channels + 3 * k, std::min<int64_t>(3, channels - 3 * k));
+        v = std::isfinite(v) ? scale * v / static_cast<double>(groups) : 0.0;
+        out[p] = static_cast<uint8_t>(std::lround(255.0 * std::clamp(v, 0.0, 1.0)));
+    }
+}
+
+GuideScale::GuideScale(int64_t frame_samples) : frame_samples_(frame_samples), bins_(size_t{1} << 16, 0) {}
+
+template <class Visit>
+void GuideScale::each_sample(int64_t f, const float* guide, Visit&& visit) const {
+    const int64_t first = f * frame_samples_;
+    for (int64_t j = (kGuideStride - first % kGuideStride) % kGuideStride; j < frame_samples_; j += kGuideStride)
+        visit(std::isfinite(guide[j]) ? guide[j] : 0.0f);
+}
+
+void GuideScale::count(int64_t f, const float* guide) {
+    each_sample(f, guide, [&](float v) {
+        ++bins_[bits_of(v) >> 16];
+        ++total_;
+    });
+}
+
+void GuideScale::finish_counting() {
+    counting_done_ = true;
+    if (total_ == 0) return;
+    rank_ = static_cast<uint64_t>(kGuideQuantile * static_cast<double>(total_ - 1));
+    uint64_t seen = 0;
+    for (uint32_t b = 0; b < bins_.size(); ++b) {
+        if (seen + bins_[b] > rank_) {
+            bin_ = b;
+            before_ = seen;
+            break;
+        }
+        seen += bins_[b];
+    }
+    bins_.clear();
+}
+
+void GuideScale::collect(int64_t f, const float* guide) {
+    each_sample(f, guide, [&](float v) {
+        if ((bits_of(v) >> 16) == bin_) in_bin_.push_back(v);
+    });
+}
+
+double GuideScale::scale() {
+    if (total_ == 0 || in_bin_.empty()) return 1.0;
+    const auto q = in_bin_.begin() + static_cast<std::ptrdiff_t>(rank_ - before_);
+    std::nth_element(in_bin_.begin(), q, in_bin_.end());
+    return *q > 0 ? 1.0 / *q : 1.0;
+}
+
+AlignedAverager::AlignedAverager(const Shape& shape, std::vector<int64_t> pixels, const AlignedAverageOptions& options,
+                                 const std::vector<float>* vectors)
+    : shape_(shape), pixels_(std::move(pixels)), options_(options), vectors_(vectors && !vectors->empty() ? vectors : nullptr) {}
+
+double AlignedAverager::average(int64_t t, const AlignedWindow& window, float* out) const {
+    const Shape& s = shape_;
+    const int64_t F = s.frames, P = s.pixels(), C = s.channels;
+    const size_t n = pixels_.size();
+    const bool estimate_flow = s.width >= kMinFlowSide && s.height >= kMinFlowSide;
+    const double inv_two_sigma2 = 1.0 / (2.0 * options_.sigma * options_.sigma);
+    const double gain_t = options_.frame_gain.empty() ? 1.0 : options_.frame_gain[static_cast<size_t>(t)];
+    const float* vectors = vectors_ ? vectors_->data() : nullptr;
+    const auto image = [&](int64_t f) {
+        return cv::Mat(static_cast<int>(s.height), static_cast<int>(s.width), CV_8UC1, const_cast<uint8_t*>(window.image(f)));
+    };
+    cv::Ptr<cv::DISOpticalFlow> dis = cv::DISOpticalFlow::create(dis_preset(options_.flow));
+    cv::Mat flow;
+    std::vector<double> sum(n * static_cast<size_t>(C), 0.0), weight(n, 0.0);
+    std::vector<double> sample(static_cast<size_t>(C));
+    std::vector<cv::Vec2f> where(n);     // each pixel's surface point in frame f
+    std::vector<uint8_t> tracked(n);     // still followed (vectors consistent so far)
+    std::vector<uint8_t> by_vector(n);   // followed along the vectors, else the flow
+    const float* gt = window.guide(t);
+    const auto accumulate = [&](int64_t f) {
+        const float* vf = window.values(f);
+        const float* gf = window.guide(f);
+        for (size_t i = 0; i < n; ++i) {
+            if (!tracked[i]) continue;  // occluded or uncovered on the way: not the same surface
+            const int64_t p = pixels_[i];
+            const float fx = where[i][0], fy = where[i][1];
+            if (!inside(s.width, s.height, where[i])) continue;  // outside frame f (NaN flow lands here too)
+            double mismatch = 0;
+            bool finite = true;
+            for (int64_t c = 0; c < C; ++c) {
+                const double e = bilinear(gf, s.width, s.height, C, fx, fy, c) - gt[p * C + c];
+                mismatch += e * e;
+                sample[static_cast<size_t>(c)] = bilinear(vf, s.width, s.height, C, fx, fy, c);
+                finite = finite && std::isfinite(sample[static_cast<size_t>(c)]);
+            }
+            const double w = std::exp(-mismatch * inv_two_sigma2);
+            if (!(w > 1e-4) || !finite) continue;  // another surface or light, or a non-finite sample
+            for (int64_t c = 0; c < C; ++c) sum[i * static_cast<size_t>(C) + static_cast<size_t>(c)] += w * sample[static_cast<size_t>(c)];
+            weight[i] += w;
+        }
+    };
+    const auto start_at_t = [&] {
+        for (size_t i = 0; i < n; ++i)
+            where[i] = cv::Vec2f(static_cast<float>(pixels_[i] % s.width), static_cast<float>(pixels_[i] / s.width));
+        std::fill(tracked.begin(), tracked.end(), uint8_t{1});
+    };
+    // Which pixels follow the vectors: those with a vector at t (Cycles writes exact zeros where no
+    // geometry is hit, and a static surface has them too); the others follow the flow.
+    int64_t by_flow = 0;
+    for (size_t i = 0; i < n; ++i) {
+        const float* v = vectors ? vectors + (t * P + pixels_[i]) * 4 : nullptr;
+        by_vector[i] = v && (v[0] != 0 || v[1] != 0 || v[2] != 0 || v[3] != 0);
+        by_flow += !by_vector[i];
+    }
+    // Frame t itself, then its neighbours outward, one side after the other: each step starts from the
+    // previous one (chained vectors; the flow warm-started from the last one of this side, never from
+    // another frame's), so the result does not depend on how frames are shared out between threads.
+    start_at_t();
+    accumulate(t);
+    for (const int dir : {-1, 1}) {
+        start_at_t();
+        flow.release();  // DIS starts from the flow it is handed: from zero on each side
+        const int64_t last = dir < 0 ? std::max<int64_t>(0, t - options_.half_width) : std::min<int64_t>(F - 1, t + options_.half_width);
+        for (int64_t f = t + dir; dir < 0 ? f >= last : f <= last; f += dir) {
+            for (size_t i = 0; i < n; ++i)
+                if (by_vector[i] && tracked[i]) tracked[i] = follow_vectors(vectors, s.width, s.height, f - dir, dir, where[i]);
+            if (by_flow > 0 && estimate_flow) {
+                try {
+                    dis->calc(image(t), image(f), flow);
+                } catch (const cv::Exception& e) {
+                    throw Error(Status::Internal, std::string("optical flow failed: ") + e.what());
+                }
+                for (size_t i = 0; i < n; ++i) {
+                    if (by_vector[i]) continue;
+                    const int64_t p = pixels_[i];
+                    const cv::Vec2f d = flow.at<cv::Vec2f>(static_cast<int>(p / s.width), static_cast<int>(p % s.width));
+                    where[i] = cv::Vec2f(static_cast<float>(p % s.width) + d[0], static_cast<float>(p / s.width) + d[1]);
+                }
+            }
+            accumulate(f);
+        }
+    }
+    double total = 0;
+    for (size_t i = 0; i < n; ++i) {
+        if (!(weight[i] > 0)) continue;  // nothing finite to average: the pixel keeps its value
+        total += weight[i];
+        for (int64_t c = 0; c < C; ++c) sample[static_cast<size_t>(c)] = sum[i * static_cast<size_t>(C) + static_cast<size_t>(c)] / weight[i];
+        inverse_transform(options_.transform, sample.data(), sample.size());
+        for (int64_t c = 0; c < C; ++c) out[pixels_[i] * C + c] = static_cast<float>(sample[static_cast<size_t>(c)] * gain_t);
+    }
+    return total;
+}
+
+}  // namespace statfilter

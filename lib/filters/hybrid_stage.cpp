@@ -1,0 +1,352 @@
+#include "filters/hybrid_stage.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+
+#include <opencv2/imgproc.hpp>
+
+#include "filters/builtin_filters.hpp"
+#include "filters/frame_stages.hpp"
+#include "filters/motion_analysis.hpp"
+#include "filters/temporal_params.hpp"
+#include "pipeline/band_view.hpp"
+#include "pipeline/frame_stage_pool.hpp"
+#include "pipeline/parallel.hpp"
+#include "pipeline/scratch_frames.hpp"
+#include "statfilter/aligned_frame.hpp"
+#include "statfilter/filter_registry.hpp"
+
+namespace statfilter {
+namespace {
+
+// The temporal parameters the hybrid hands to the filters it is made of.
+constexpr const char* kShared[] = {"transform", "transform_scale", "firefly_z", "keep_mean", "nonfinite", "shared_basis",
+                                   "memory_mb"};
+
+LowRankOptions sub_filter_options(const std::string& name, const ParamSet& from) {
+    ParamSet p = create_filter(name)->params();
+    for (const char* shared : kShared) p.set_string(shared, from.get_string(shared));
+    return low_rank_options(p, name == "error-threshold");
+}
+
+// A progress callback reporting [0, 1] into [start, start + span] of `outer`.
+Progress part_of(const Progress& outer, double start, double span) {
+    return Progress([&outer, start, span](double fraction, const char* stage) {
+        outer.report(start + span * fraction, stage);
+        return true;
+    });
+}
+
+// A window frame: its samples, guide and flow image (aligned_frame.hpp).
+struct WindowFrame {
+    std::vector<float> values, guide;
+    std::vector<uint8_t> image;
+};
+
+}  // namespace
+
+HybridStageOptions hybrid_stage_options(const ParamSet& p) {
+    HybridStageOptions o;
+    o.temporal = sub_filter_options(p.get_string("temporal"), p);
+    o.still = sub_filter_options("pca", p);
+    o.alpha.components = static_cast<int>(p.get_int("components"));
+    o.signal_components = p.get_string("component_selection") == "signal";
+    o.alpha.local_noise = p.get_string("alpha_noise") == "local";
+    o.alpha.ignore_global_light = p.get_string("global_light") == "ignore";
+    o.alpha.low = p.get_float("alpha_low");
+    o.alpha.high = p.get_float("alpha_high");
+    o.alpha.window = static_cast<int>(p.get_int("alpha_window"));
+    if (!(o.alpha.high > o.alpha.low)) throw Error(Status::InvalidArgument, "alpha_high must be above alpha_low");
+    o.change_z = p.get_float("change_z");
+    o.still_fraction = p.get_float("still_fraction");
+    o.mc_dilate = static_cast<int>(p.get_int("mc_dilate"));
+    o.mc.half_width = static_cast<int>(p.get_int("mc_half_width"));
+    o.mc.sigma = p.get_float("mc_sigma");
+    o.mc.flow = parse_flow_preset(p.get_string("mc_flow"));
+    // Linear samples: a weighted mean of unbiased samples is unbiased, where a mean of their logs
+    // comes back darker (Jensen); the weights still judge agreement in log units.
+    o.mc.transform = ValueTransform::None;
+    return o;
+}
+
+bool hybrid_streams(const ParamSet& p, bool has_vectors) {
+    return p.get_string("motion_compensation") == "auto" && p.get_int("shared_basis") == 1 && !has_vectors &&
+           p.get_string("albedo").empty() && p.get_string("normal").empty();
+}
+
+HybridStage::HybridStage(HybridStageOptions options)
+    : options_(std::move(options)), refine_(postfilter_params(kRefinePostfilter, kRefinePostfilterParams)) {}
+
+Footprint HybridStage::footprint() const {
+    Footprint f;
+    f.reach = TemporalReach::Shot;  // the statistics; then a window of mc_half_width frames a side
+    f.window_half = options_.mc.half_width;
+    f.halo = std::max<int64_t>(TemporalChange::kHalo, options_.alpha.window / 2);
+    f.passes = 4;  // the Gram, alpha's light fit, the energies and scores, the coefficients; then the window
+    f.streams = true;
+    return f;
+}
+
+double HybridStage::analysis_bytes(const Shape& s) const {
+    // alpha's energies and tails, the change test's centres and noise (double), three float maps, and
+    // the halo rows of a band.
+    const double P = static_cast<double>(s.pixels());
+    return P * (4 * sizeof(double) + 3 * sizeof(float) + 2) +
+           2.0 * TemporalChange::kHalo * s.frames * s.width * s.channels * (sizeof(float) + sizeof(double));
+}
+
+double HybridStage::window_bytes(const Shape& s, int threads) const {
+    const double frame = static_cast<double>(s.pixels()) * s.channels * sizeof(float);
+    const double frames = 2.0 * options_.mc.half_width + threads;  // the window of every frame being averaged
+    // Each window frame: samples, guide, image; each thread: I_T, the first pass, the average's sums
+    // and the flow (two floats a pixel) with DIS's pyramids.
+    return frames * (2 * frame + static_cast<double>(s.pixels())) + threads * (4 * frame + 16.0 * s.pixels());
+}
+
+double HybridStage::min_bytes(const Shape& s, int threads) const {
+    LowRankStage temporal(options_.temporal);
+    const double frame = static_cast<double>(s.pixels()) * s.channels * sizeof(float);
+    // The first pass' diffusion holds a few working copies of its frame per thread.
+    const double analysis = temporal.min_bytes(s, threads) + analysis_bytes(s) + threads * 6 * frame;
+    return std::max(analysis, window_bytes(s, threads));
+}
+
+void HybridStage::run(const FrameSource& source, const FrameConsumer& consume, const StageContext& ctx, Results& results) {
+    const Shape& s = source.shape();
+    const int64_t F = s.frames, P = s.pixels(), C = s.channels, H = s.height, W = s.width;
+    const int64_t frame_samples = P * C;
+    const Progress none;
+    const Progress& progress = ctx.progress ? *ctx.progress : none;
+    const LowRankStage temporal(options_.temporal), still(options_.still);
+    StageContext inner = ctx;
+    inner.budget_bytes = ctx.budget_bytes - analysis_bytes(s);
+
+    // 1. Statistics. The Gram, and each frame's light level for the change test, in one read.
+    TemporalChangeOptions change_options;
+    change_options.z_threshold = options_.change_z;
+    TemporalChange change(s, change_options);
+    const bool test_change = options_.change_z > 0;
+    const Progress gram_progress = part_of(progress, 0.0, 0.1);
+    inner.progress = &gram_progress;
+    LowRankStatistics stats = temporal.statistics(
+        source, inner, test_change ? BandVisitor([&](const Sequence& band, int64_t y0) { change.add_levels(band, y0); })
+                                   : BandVisitor());
+    change.finish_levels();
+    const LowRankStatistics::Group& group = stats.groups.front();  // streamed only with one shared basis
+    const TemporalBasis basis = basis_from_gram(std::vector<double>(group.gram), F, group.series);
+    const RankChoice signal = gavish_donoho_rank(basis.eigenvalues, basis.series, basis.frames);
+    GlobalMotionOptions alpha_options = options_.alpha;
+    // Components below the noise threshold are noise, and PCA aligns them with the noisiest pixels
+    // (a few outlier samples): their energy piles up there and looks like motion.
+    if (options_.signal_components) alpha_options.components = static_cast<int>(std::min<int64_t>(alpha_options.components, signal.rank));
+    GlobalMotionMap alpha_map(basis, signal.noise_sigma, alpha_options, H, W, group.group.count);
+
+    // Then two reads of bands with the change test's halo: the light fit and the pixels' noise, then
+    // the energies and the scores. A kept band (the shot fits) is not read again.
+    const int64_t halo = TemporalChange::kHalo;
+    const int64_t rows = stats.keep ? H : std::max<int64_t>(1, stats.rows - 2 * halo);
+    const int64_t bands = (H + rows - 1) / rows;
+    std::vector<float> buffer;
+    const auto each_band = [&](double at, double span, const char* stage,
+                               const std::function<void(PreparedSeries&, const Sequence&, int64_t, int64_t, int64_t)>& body) {
+        for (int64_t b = 0; b < bands; ++b) {
+            progress.report(at + span * b / bands, stage);
+            if (stats.keep) {
+                body(stats.series(0, *stats.kept_band), *stats.kept_band, 0, H, 0);
+                continue;
+            }
+            const int64_t y0 = b * rows, y1 = std::min(H, y0 + rows);
+            const int64_t a = std::max<int64_t>(0, y0 - halo), e = std::min(H, y1 + halo);
+            const auto band = band_view(source, a, e, buffer, ctx.threads, {progress, at + span * b / bands, 0, stage});
+            const auto own_rows = rows_of_band(*band, y0 - a, y1 - y0);
+            body(stats.series(0, *own_rows), *band, y0, y1, y0 - a);
+            stats.cached[0].reset();  // it borrowed this band
+        }
+    };
+    if (alpha_map.needs_light_fit() || test_change)
+        each_band(0.1, 0.1, "motion", [&](PreparedSeries& series, const Sequence& band, int64_t y0, int64_t y1, int64_t top) {
+            if (alpha_map.needs_light_fit()) series.read({none}, [&](const PreparedTile& t) { alpha_map.fit_light(t); });
+            if (test_change) change.add_noise(band, y0, y1, top);
+        });
+    alpha_map.finish_light_fit();
+    change.finish_noise();
+    each_band(0.2, 0.1, "motion", [&](PreparedSeries& series, const Sequence& band, int64_t y0, int64_t y1, int64_t top) {
+        series.read({none}, [&](const PreparedTile& t) { alpha_map.add_energy(t, y0 * W); });
+        if (test_change) change.add_scores(band, y0, y1, top);
+    });
+    buffer = std::vector<float>();
+    const std::shared_ptr<Sequence> alpha = alpha_map.alpha();
+    // Where things move: 1 - alpha, raised where the temporal-change test says so.
+    auto weight = std::make_shared<Sequence>(alpha->shape());
+    for (int64_t p = 0; p < P; ++p) weight->at(0, p / W, p % W, 0) = 1.0f - alpha->at(0, p / W, p % W, 0);
+    if (test_change) combine_max(*weight, *change.map());
+    const double moving_share = mean_of_map(*weight);
+    results.set("motion_fraction", moving_share);
+    results.set_image("alpha", alpha);
+    results.set("bands", static_cast<double>(stats.bands));
+
+    FrameStagePool refine("postfilter", refine_);
+    const auto hand_on = [&](int64_t t, float* pixels) {
+        if (options_.refine_after) refine.apply(t, pixels, s, source.attributes());
+        consume(t, pixels);
+    };
+    Results own;
+    if (moving_share < options_.still_fraction) {
+        // 2. A still scene: global PCA (automatic rank) from the Gram at hand is all it requires.
+        const Progress rebuild = part_of(progress, 0.3, 0.7);
+        inner.progress = &rebuild;
+        still.reconstruct(source, std::move(stats), hand_on, inner, own);
+        results.set("beta_source", "none (still scene)");
+        results.set("moving_basis_fraction", 0.0);
+        results.set("diffusion_fraction", 0.0);
+        results.copy(own, "rank", "temporal_rank");
+        return;
+    }
+
+    // 3. The moving pixels: the weight grown by a max filter. alpha is pooled over a box and ramps,
+    // so along the rim of a moving region the temporal filter would keep part of the weight, and
+    // there its per-pixel ranks keep the motion's noise (dark and bright speckles at 4 spp).
+    cv::Mat grown(static_cast<int>(H), static_cast<int>(W), CV_32F);
+    for (int64_t p = 0; p < P; ++p) grown.at<float>(static_cast<int>(p)) = weight->at(0, p / W, p % W, 0);
+    if (options_.mc_dilate > 0)
+        cv::dilate(grown, grown, cv::Mat::ones(2 * options_.mc_dilate + 1, 2 * options_.mc_dilate + 1, CV_8U));
+    std::vector<int64_t> pixels;
+    std::vector<uint8_t> moving(static_cast<size_t>(P), 0);
+    for (int64_t p = 0; p < P; ++p)
+        if (grown.at<float>(static_cast<int>(p)) > 0.0f) {
+            moving[static_cast<size_t>(p)] = 1;
+            pixels.push_back(p);
+        }
+
+    // I_T and the first pass it is checked against (I_T with the light diffusion pass), frame by
+    // frame, parked; the first pass' sums as they come.
+    ScratchFrames temporal_frames(s, source.attributes()), first_pass(s, source.attributes());
+    std::vector<double> sums(static_cast<size_t>(F)), still_levels(static_cast<size_t>(F));
+    const Progress rebuild = part_of(progress, 0.3, 0.2);
+    inner.progress = &rebuild;
+    inner.budget_bytes = ctx.budget_bytes - static_cast<double>(P) * (sizeof(float) + 1);
+    temporal.reconstruct(source, std::move(stats), [&](int64_t t, float* pixels) {
+        temporal_frames.write_frame(t, pixels);
+        std::vector<float> estimate(pixels, pixels + frame_samples);
+        refine.apply(t, estimate.data(), s, source.attributes());
+        sums[static_cast<size_t>(t)] = positive_sum(estimate.data(), frame_samples);
+        double level = 0;
+        for (int64_t p = 0; p < P; ++p)
+            if (!moving[static_cast<size_t>(p)])
+                for (int64_t c = 0; c < C; ++c) {
+                    const float v = estimate[static_cast<size_t>(p * C + c)];
+                    if (v > 0 && std::isfinite(v)) level += v;
+                }
+        still_levels[static_cast<size_t>(t)] = level;
+        first_pass.write_frame(t, estimate.data());
+    }, inner, own);
+    for (const char* name : {"rank", "mean_rank"})
+        if (own.has(name)) results.copy(own, name, std::string("temporal_") + name);
+
+    AlignedAverageOptions mc = options_.mc;
+    double total = 0;
+    for (double v : sums) total += v;
+    const double mean = estimate_mean(total, F * frame_samples);
+    // Each frame's light level where nothing moves (its first pass summed over the still pixels, over
+    // the shot's mean of that sum), so the aligned averages follow a global light change; none
+    // (constant) when under 5% of the frame is still, where frame sums would measure content, not light.
+    const auto still_count = static_cast<int64_t>(std::count(moving.begin(), moving.end(), uint8_t{0}));
+    if (still_count >= P / 20) {
+        double level_mean = 0;
+        for (double l : still_levels) level_mean += l / static_cast<double>(F);
+        mc.frame_gain = still_levels;
+        for (double& l : mc.frame_gain) {
+            if (!(level_mean > 0) || !(l > 0)) {
+                mc.frame_gain.clear();
+                break;
+            }
+            l /= level_mean;
+        }
+    }
+    const auto gain = [&](int64_t f) { return mc.frame_gain.empty() ? 1.0 : mc.frame_gain[static_cast<size_t>(f)]; };
+
+    // The flow images' scale: the guide's 99.5th percentile, in two reads of the first pass.
+    GuideScale quantile(frame_samples);
+    for (const bool counting : {true, false}) {
+        const int64_t batch = std::max(1, ctx.threads);
+        std::vector<std::vector<float>> guides(static_cast<size_t>(batch), std::vector<float>(static_cast<size_t>(frame_samples)));
+        for (int64_t f0 = 0; f0 < F; f0 += batch) {
+            const int64_t n = std::min(batch, F - f0);
+            parallel_for(n, ctx.threads, [&](int64_t i) {
+                std::vector<float> estimate(static_cast<size_t>(frame_samples));
+                first_pass.read_rows(f0 + i, 0, H, estimate.data());
+                aligned_guide(estimate.data(), frame_samples, gain(f0 + i), mean, guides[static_cast<size_t>(i)].data());
+            }, {progress, 0.5 + (counting ? 0.0 : 0.025) + 0.025 * f0 / F, 0, "motion compensation"});
+            for (int64_t i = 0; i < n; ++i) {
+                if (counting) quantile.count(f0 + i, guides[static_cast<size_t>(i)].data());
+                else quantile.collect(f0 + i, guides[static_cast<size_t>(i)].data());
+            }
+        }
+        if (counting) quantile.finish_counting();
+    }
+    const double scale = quantile.scale();
+
+    // 4. The window: frame t's moving pixels averaged along the flow over t - h .. t + h, blended into
+    // I_T by the moving weight. Frames enter the window once and leave when no frame still needs them.
+    const AlignedAverager averager(s, pixels, mc, nullptr);
+    std::map<int64_t, std::unique_ptr<WindowFrame>> window;
+    AlignedWindow access;
+    access.values = [&](int64_t f) { return window.at(f)->values.data(); };
+    access.guide = [&](int64_t f) { return window.at(f)->guide.data(); };
+    access.image = [&](int64_t f) { return window.at(f)->image.data(); };
+    const int64_t h = mc.half_width, batch = std::max(1, ctx.threads);
+    std::vector<double> frame_weight(static_cast<size_t>(F), 0.0);
+    for (int64_t t0 = 0; t0 < F; t0 += batch) {
+        const int64_t t1 = std::min(F, t0 + batch);
+        const int64_t lo = std::max<int64_t>(0, t0 - h), hi = std::min(F - 1, t1 - 1 + h);
+        window.erase(window.begin(), window.lower_bound(lo));
+        std::vector<int64_t> entering;
+        for (int64_t f = lo; f <= hi && !pixels.empty(); ++f)
+            if (!window.count(f)) {
+                window.emplace(f, std::make_unique<WindowFrame>());
+                entering.push_back(f);
+            }
+        const double at = 0.55 + 0.45 * t0 / F;
+        parallel_for(static_cast<int64_t>(entering.size()), ctx.threads, [&](int64_t i) {
+            const int64_t f = entering[static_cast<size_t>(i)];
+            WindowFrame& w = *window.at(f);
+            std::vector<float> frame(static_cast<size_t>(frame_samples));
+            w.values.resize(frame.size());
+            w.guide.resize(frame.size());
+            w.image.resize(static_cast<size_t>(P));
+            source.read_rows(f, 0, H, frame.data());
+            aligned_values(frame.data(), frame_samples, gain(f), mc.transform, w.values.data());
+            first_pass.read_rows(f, 0, H, frame.data());
+            aligned_guide(frame.data(), frame_samples, gain(f), mean, w.guide.data());
+            flow_image(w.guide.data(), W, H, C, scale, w.image.data());
+        }, {progress, at, 0, "motion compensation"});
+        parallel_for(t1 - t0, ctx.threads, [&](int64_t i) {
+            const int64_t t = t0 + i;
+            std::vector<float> out(static_cast<size_t>(frame_samples)), aligned(out.size());
+            temporal_frames.read_rows(t, 0, H, out.data());
+            if (!pixels.empty()) {
+                first_pass.read_rows(t, 0, H, aligned.data());  // a pixel with nothing to average keeps it
+                frame_weight[static_cast<size_t>(t)] = averager.average(t, access, aligned.data());
+                for (const int64_t p : pixels) {
+                    const float w = grown.at<float>(static_cast<int>(p));
+                    for (int64_t c = 0; c < C; ++c) {
+                        float& o = out[static_cast<size_t>(p * C + c)];
+                        o += w * (aligned[static_cast<size_t>(p * C + c)] - o);
+                    }
+                }
+            }
+            hand_on(t, out.data());
+        }, {progress, at, 0.45 * static_cast<double>(t1 - t0) / F, "motion compensation"});
+    }
+    double weights = 0;
+    for (double v : frame_weight) weights += v;
+    results.set("beta_source", "none (motion compensation)");
+    results.set("motion_compensation", "optical flow on the first pass");
+    results.set("aligned_fraction", static_cast<double>(pixels.size()) / static_cast<double>(P));
+    results.set("aligned_frames", pixels.empty() ? 0.0 : weights / static_cast<double>(F * static_cast<int64_t>(pixels.size())));
+    results.set("moving_basis_fraction", 0.0);
+    results.set("diffusion_fraction", 0.0);
+}
+
+}  // namespace statfilter
