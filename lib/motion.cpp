@@ -1,10 +1,13 @@
 #include "statfilter/motion.hpp"
 
 #include <algorithm>
+#include <mutex>
 #include <cmath>
 #include <vector>
 
 #include <opencv2/imgproc.hpp>
+
+#include "pipeline/parallel.hpp"
 
 #include "filters/low_rank_reconstruction.hpp"
 #include "statfilter/error.hpp"
@@ -217,11 +220,13 @@ bool TemporalChange::active() const { return shape_.frames >= 3; }  // fewer: no
 
 namespace {
 
+const Progress kNoProgress;
+
 // Each frame's luminance (channel mean, non-negative, 0 where not finite) as float images.
 std::vector<cv::Mat> luminance(const Sequence& band) {
     const Shape& b = band.shape();
     std::vector<cv::Mat> lum(static_cast<size_t>(b.frames));
-    for (int64_t f = 0; f < b.frames; ++f) {
+    parallel_for(b.frames, resolve_threads(0), [&](int64_t f) {
         lum[f] = cv::Mat(static_cast<int>(b.height), static_cast<int>(b.width), CV_32F);
         for (int64_t p = 0; p < b.pixels(); ++p) {
             double sum = 0;
@@ -229,20 +234,20 @@ std::vector<cv::Mat> luminance(const Sequence& band) {
             const double l = std::isfinite(sum) ? std::max(0.0, sum / static_cast<double>(b.channels)) : 0.0;
             lum[f].at<float>(static_cast<int>(p)) = static_cast<float>(l);
         }
-    }
+    }, {kNoProgress});
     return lum;
 }
 
 // Luminance over each frame's mean level, median-filtered (5 x 5), in log(1 + l / m).
 std::vector<cv::Mat> scores_domain(const Sequence& band, const std::vector<double>& gain, double unit, bool blur) {
     std::vector<cv::Mat> lum = luminance(band);
-    for (size_t f = 0; f < lum.size(); ++f) {
+    parallel_for(static_cast<int64_t>(lum.size()), resolve_threads(0), [&](int64_t f) {
         if (blur) cv::medianBlur(lum[f], lum[f], 5);
         for (int64_t p = 0; p < static_cast<int64_t>(lum[f].total()); ++p) {
             float& v = lum[f].at<float>(static_cast<int>(p));
             v = static_cast<float>(std::log1p(gain[f] * v / unit));
         }
-    }
+    }, {kNoProgress});
     return lum;
 }
 
@@ -281,8 +286,9 @@ void TemporalChange::add_noise(const Sequence& band, int64_t y0, int64_t y1, int
     const int64_t F = shape_.frames, W = shape_.width;
     const std::vector<cv::Mat> lum = scores_domain(band, gain_, unit_, shape_.width >= 5 && shape_.height >= 5);
     // Each pixel's centre (temporal median) and noise (1.4826 MAD of its frame differences / sqrt 2).
-    std::vector<double> series(static_cast<size_t>(F)), diff(static_cast<size_t>(F - 1));
-    for (int64_t y = y0; y < y1; ++y)
+    parallel_for(y1 - y0, resolve_threads(0), [&](int64_t row) {
+        const int64_t y = y0 + row;
+        std::vector<double> series(static_cast<size_t>(F)), diff(static_cast<size_t>(F - 1));
         for (int64_t x = 0; x < W; ++x) {
             const int at = static_cast<int>((y - y0 + top) * W + x);
             for (int64_t f = 0; f < F; ++f) series[f] = lum[f].at<float>(at);
@@ -292,6 +298,7 @@ void TemporalChange::add_noise(const Sequence& band, int64_t y0, int64_t y1, int
             sigma_[static_cast<size_t>(y * W + x)] = 1.4826 * median_of(diff) / std::sqrt(2.0);
             centre_[static_cast<size_t>(y * W + x)] = median_of(series);
         }
+    }, {kNoProgress});
 }
 
 void TemporalChange::finish_noise() {
@@ -306,9 +313,11 @@ void TemporalChange::add_scores(const Sequence& band, int64_t y0, int64_t y1, in
     // Squared scores on every row of the band the pixel's noise is known for (the band's own rows and
     // its halo), median-filtered over 5 x 5 like the luminance.
     const int64_t first = y0 - top;  // the band's first row in the frame
+    // Frames in parallel, each thread its own peak; the maximum does not depend on the order.
     cv::Mat peak = cv::Mat::zeros(static_cast<int>(rows), static_cast<int>(W), CV_32F);
-    cv::Mat z2(static_cast<int>(rows), static_cast<int>(W), CV_32F);
-    for (int64_t f = 0; f < F; ++f) {
+    std::mutex peak_mutex;
+    parallel_for(F, resolve_threads(0), [&](int64_t f) {
+        cv::Mat z2(static_cast<int>(rows), static_cast<int>(W), CV_32F);
         for (int64_t r = 0; r < rows; ++r)
             for (int64_t x = 0; x < W; ++x) {
                 const auto p = static_cast<size_t>((first + r) * W + x);
@@ -317,8 +326,9 @@ void TemporalChange::add_scores(const Sequence& band, int64_t y0, int64_t y1, in
                 z2.at<float>(static_cast<int>(r), static_cast<int>(x)) = static_cast<float>(std::min(z * z, 1e30));
             }
         if (shape_.width >= 5 && shape_.height >= 5) cv::medianBlur(z2, z2, 5);
+        std::lock_guard<std::mutex> lock(peak_mutex);
         peak = cv::max(peak, z2);
-    }
+    }, {kNoProgress});
     const double threshold2 = o_.z_threshold * o_.z_threshold;
     for (int64_t y = y0; y < y1; ++y)
         for (int64_t x = 0; x < W; ++x)

@@ -26,13 +26,23 @@ void prepare_tile(double* tile, int64_t frames, int64_t n, const SeriesPrep& pre
 }
 
 PreparedSeries::PreparedSeries(const Sequence& input, ChannelSelection group, const SeriesPrep& prep,
-                               double budget_bytes, int buffers_per_tile)
+                               double budget_bytes, int buffers_per_tile, const std::vector<TemporalOutlier>* known,
+                               int64_t first_series)
     : input_(input), group_(group), prep_(prep),
       tiles_(make_pixel_tiles(input.shape(), group.count, budget_bytes, buffers_per_tile)) {
     // Measured on the whole group before any pass, so every tiling sees the same scale and fireflies.
     if (!(prep_.scale > 0)) prep_.scale = prep_.scale_factor * transform_level(input, group);
     if (!(prep_.scale > 0) || !std::isfinite(prep_.scale)) prep_.scale = 1.0;
-    if (prep_.outlier_z > 0) {
+    if (known) {
+        const int64_t end = first_series + input.shape().pixels() * group.count;
+        auto it = std::lower_bound(known->begin(), known->end(), first_series,
+                                   [](const TemporalOutlier& o, int64_t series) { return o.series < series; });
+        for (; it != known->end() && it->series < end; ++it) {
+            TemporalOutlier o = *it;
+            o.series -= first_series;
+            outliers_.push_back(o);
+        }
+    } else if (prep_.outlier_z > 0) {
         OutlierOptions o;
         // Judged relative to the level whatever the transform: in linear units the spread of a few
         // samples per pixel is so skewed that its tail would be taken for fireflies (light lost).

@@ -153,14 +153,14 @@ void HybridStage::run(const FrameSource& source, const FrameConsumer& consume, c
         for (int64_t b = 0; b < bands; ++b) {
             progress.report(at + span * b / bands, stage);
             if (stats.keep) {
-                body(stats.series(0, *stats.kept_band), *stats.kept_band, 0, H, 0);
+                body(stats.series(0, *stats.kept_band, 0), *stats.kept_band, 0, H, 0);
                 continue;
             }
             const int64_t y0 = b * rows, y1 = std::min(H, y0 + rows);
             const int64_t a = std::max<int64_t>(0, y0 - halo), e = std::min(H, y1 + halo);
             const auto band = band_view(source, a, e, buffer, ctx.threads, {progress, at + span * b / bands, 0, stage});
             const auto own_rows = rows_of_band(*band, y0 - a, y1 - y0);
-            body(stats.series(0, *own_rows), *band, y0, y1, y0 - a);
+            body(stats.series(0, *own_rows, y0), *band, y0, y1, y0 - a);
             stats.cached[0].reset();  // it borrowed this band
         }
     };

@@ -147,6 +147,7 @@ LowRankStatistics LowRankStage::statistics(const FrameSource& source, const Stag
     stats.rows = rows;
     stats.keep = keep;
     stats.cached.resize(models.size());
+    stats.fireflies.resize(models.size());
     const int64_t bands = (s.height + rows - 1) / rows;
     stats.bands = bands;
 
@@ -159,16 +160,25 @@ LowRankStatistics LowRankStage::statistics(const FrameSource& source, const Stag
         if (also) also(*band, y0);
         for (size_t g = 0; g < models.size(); ++g) {
             LowRankStatistics::Group& m = models[g];
-            stats.series(g, *band).read({progress, at + span * (0.5 + 0.5 * g / models.size()), 0.5 * span / models.size(), "basis"},
+            stats.series(g, *band, y0).read({progress, at + span * (0.5 + 0.5 * g / models.size()), 0.5 * span / models.size(), "basis"},
                                         [&](const PreparedTile& t) { accumulate_gram(t, F, m.gram); m.series += t.n; });
         }
         if (keep) stats.kept_band = std::move(band);
     }
+    stats.fireflies_known = true;
     return stats;
 }
 
-PreparedSeries& LowRankStatistics::series(size_t g, const Sequence& band) {
-    if (!cached[g] || !keep) cached[g] = std::make_unique<PreparedSeries>(band, groups[g].group, groups[g].prep, tile_budget, 3);
+PreparedSeries& LowRankStatistics::series(size_t g, const Sequence& band, int64_t y0) {
+    if (cached[g] && keep) return *cached[g];
+    const int64_t first = y0 * band.shape().width * groups[g].group.count;
+    cached[g] = std::make_unique<PreparedSeries>(band, groups[g].group, groups[g].prep, tile_budget, 3,
+                                                 fireflies_known ? &fireflies[g] : nullptr, first);
+    if (!fireflies_known)
+        for (TemporalOutlier o : cached[g]->outliers()) {
+            o.series += first;
+            fireflies[g].push_back(o);
+        }
     return *cached[g];
 }
 
@@ -185,7 +195,7 @@ void LowRankStage::reconstruct(const FrameSource& source, LowRankStatistics stat
     std::unique_ptr<Sequence>& kept_band = stats.kept_band;
     std::vector<std::unique_ptr<PreparedSeries>>& cached = stats.cached;
     const int64_t repaired = stats.repaired;
-    auto series_of = [&](size_t g, const Sequence& band) -> PreparedSeries& { return stats.series(g, band); };
+    auto series_of = [&](size_t g, const Sequence& band, int64_t y0) -> PreparedSeries& { return stats.series(g, band, y0); };
     std::vector<GroupModel> models;
     for (LowRankStatistics::Group& g : stats.groups) {
         GroupModel m;
@@ -270,7 +280,7 @@ void LowRankStage::reconstruct(const FrameSource& source, LowRankStatistics stat
                     m.tail.at<double>(p) += std::max(0.0, total - kept);
                 }
             };
-            series_of(g, *band).consume({progress, at + span * g / models.size(), span / models.size(), "coefficients"}, keep);
+            series_of(g, *band, y0).consume({progress, at + span * g / models.size(), span / models.size(), "coefficients"}, keep);
         }
         for (auto& c : cached) c.reset();
     }

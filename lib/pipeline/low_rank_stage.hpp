@@ -53,8 +53,12 @@ struct LowRankStatistics {
     std::vector<float> buffer;    // the band read (when the source does not hold the shot)
     std::unique_ptr<Sequence> kept_band;
     std::vector<std::unique_ptr<PreparedSeries>> cached;
-    // Group g's prepared series over a band: the kept one, or made for this band.
-    PreparedSeries& series(size_t g, const Sequence& band);
+    // Each group's fireflies as the statistics pass found them (series indices of the whole frame):
+    // every later pass replaces the same samples, whatever its bands.
+    std::vector<std::vector<TemporalOutlier>> fireflies;
+    bool fireflies_known = false;
+    // Group g's prepared series over rows [y0, ...) of every frame: the kept one, or made for this band.
+    PreparedSeries& series(size_t g, const Sequence& band, int64_t y0);
 };
 
 // Sees every band of the statistics pass (rows [y0, y0 + band.height) of every frame), so another

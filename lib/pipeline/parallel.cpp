@@ -9,8 +9,16 @@
 
 namespace statfilter {
 
+namespace {
+thread_local int limit = 0;
+}  // namespace
+
+ThreadLimit::ThreadLimit(int threads) : previous_(limit) { limit = threads; }
+ThreadLimit::~ThreadLimit() { limit = previous_; }
+
 int resolve_threads(int requested) {
     if (requested > 0) return requested;
+    if (limit > 0) return limit;
     const unsigned cores = std::thread::hardware_concurrency();
     return cores > 0 ? static_cast<int>(cores) : 1;
 }

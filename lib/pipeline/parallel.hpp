@@ -8,8 +8,22 @@
 
 namespace statfilter {
 
-// The thread count to use: requested, or every core when requested <= 0.
+// The thread count to use: requested, or when requested <= 0 the calling thread's limit (ThreadLimit),
+// else every core.
 int resolve_threads(int requested);
+
+// While it lives, work started from this thread that asks for "all" threads uses `threads` (a run's
+// --threads reaches the numeric code that does not take a thread count of its own).
+class ThreadLimit {
+public:
+    explicit ThreadLimit(int threads);
+    ~ThreadLimit();
+    ThreadLimit(const ThreadLimit&) = delete;
+    ThreadLimit& operator=(const ThreadLimit&) = delete;
+
+private:
+    int previous_;
+};
 
 // Runs body(i) for i in [0, count) on up to `threads` threads (the caller's included). Items start in
 // order; progress.report(done / count) runs on the calling thread between its items. The first

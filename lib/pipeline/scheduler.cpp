@@ -37,6 +37,7 @@ void Filter::execute(const FrameSource& source, FrameSink& sink, const RunOption
     check();
     const Shape& s = source.shape();
     const int threads = resolve_threads(options.threads);
+    const ThreadLimit limit(threads);
     const double budget = options.budget_bytes > 0 ? options.budget_bytes : static_cast<double>(default_memory_budget());
     const double frame_bytes = static_cast<double>(s.pixels()) * s.channels * sizeof(float);
     const bool pre = has_frame_stage(params_, "prefilter"), post = has_frame_stage(params_, "postfilter");

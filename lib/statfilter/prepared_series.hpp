@@ -43,8 +43,10 @@ struct PreparedTile {
 class PreparedSeries {
 public:
     // buffers_per_tile: how many F x n double buffers a pass holds at once (for the budget).
+    // known: the fireflies already found (a later pass over a band of the shot: series indices of the
+    // whole frame, the band's first series at first_series), else they are searched for here.
     PreparedSeries(const Sequence& input, ChannelSelection group, const SeriesPrep& prep, double budget_bytes,
-                   int buffers_per_tile);
+                   int buffers_per_tile, const std::vector<TemporalOutlier>* known = nullptr, int64_t first_series = 0);
 
     int64_t frames() const { return input_.shape().frames; }
     const Shape& shape() const { return input_.shape(); }
