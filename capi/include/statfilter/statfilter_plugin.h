@@ -66,8 +66,9 @@ typedef struct sf_plugin_run {
 /* Whether the plugin can run on this machine (e.g. its runtime library is present). */
 typedef sf_status (*sf_plugin_probe_fn)(char* error, size_t error_size);
 typedef sf_status (*sf_plugin_create_fn)(void** instance, char* error, size_t error_size);
-/* Called before each execute with every parameter as text, already checked by statfilter against
- * the plugin's parameter table (type, range, choices). */
+/* Called before each run (an execute, or the execute_frame calls of one sequence) with every
+ * parameter as text, already checked by statfilter against the plugin's parameter table (type,
+ * range, choices). */
 typedef sf_status (*sf_plugin_set_param_fn)(void* instance, const char* name, const char* value, char* error,
                                             size_t error_size);
 /* The whole sequence in one call: the plugin loops over the frames and reports progress. */
