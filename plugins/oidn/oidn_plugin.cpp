@@ -121,21 +121,17 @@ public:
         open_device();
         const FilterKey key{s.width, s.height, !albedo.empty(), !normal.empty(), settings.hdr, settings.clean_aux,
                             settings.quality};
-        bool commit = false;
-        if (!filter_ || !(key == key_)) {
-            make_filter(key);
-            commit = true;
-        }
+        if (!filter_ || !(key == key_)) make_filter(key);
         const size_t frame_floats = static_cast<size_t>(s.width * s.height) * 3;
         for (int64_t f = 0; f < s.frames; ++f) {
             load_color(run, f, color_);
             // This frame's guides: re-pointing a shared image needs a new commit.
             if (!albedo.empty()) share("albedo", albedo.data() + f * frame_floats);
             if (!normal.empty()) share("normal", normal.data() + f * frame_floats);
-            if (commit || !albedo.empty()) {
+            if (!committed_ || !albedo.empty()) {
                 api_.commitFilter(filter_);
                 check_device(api_, device_, "oidnCommitFilter");
-                commit = false;
+                committed_ = true;
             }
             api_.executeFilter(filter_);
             check_device(api_, device_, "oidnExecuteFilter");
@@ -165,6 +161,7 @@ private:
     void make_filter(const FilterKey& key) {
         if (filter_) api_.releaseFilter(filter_);
         filter_ = api_.newFilter(device_, "RT");
+        committed_ = false;  // also when a call fails before its commit: the next one commits
         check_device(api_, device_, "oidnNewFilter");
         key_ = key;
         const size_t floats = static_cast<size_t>(key.width * key.height) * 3;
@@ -225,6 +222,7 @@ private:
     const OidnApi& api_;
     OidnDevice device_ = nullptr;
     OidnFilter filter_ = nullptr;
+    bool committed_ = false;
     FilterKey key_;
     std::vector<float> color_, output_;
 };
