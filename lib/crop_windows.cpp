@@ -8,6 +8,7 @@
 #include <set>
 
 #include "statfilter/error.hpp"
+#include "statfilter/frame_pattern.hpp"
 #include "statfilter/json.hpp"
 
 namespace statfilter {
@@ -166,15 +167,9 @@ constexpr int64_t kCropsSchemaVersion = 1;
 
 // "3-5,9": the frames that have windows, as --frames and render farms take them.
 std::string frame_ranges(const std::vector<FrameCrops>& frames) {
-    std::string out;
-    for (size_t i = 0; i < frames.size();) {
-        size_t j = i;
-        while (j + 1 < frames.size() && frames[j + 1].frame == frames[j].frame + 1) ++j;
-        out += (out.empty() ? "" : ",") + std::to_string(frames[i].frame);
-        if (j > i) out += "-" + std::to_string(frames[j].frame);
-        i = j + 1;
-    }
-    return out;
+    std::vector<int64_t> numbers;
+    for (const FrameCrops& f : frames) numbers.push_back(f.frame);
+    return format_frame_list(numbers);
 }
 
 }  // namespace
@@ -309,8 +304,7 @@ void check_crop_plan(const CropPlan& plan, int64_t width, int64_t height, const 
         if (std::find(frame_numbers.begin(), frame_numbers.end(), f.frame) == frame_numbers.end())
             throw Error(Status::InvalidArgument, "the crop windows name frame " + std::to_string(f.frame) +
                                                      ", which the sequence does not have (frames " +
-                                                     std::to_string(frame_numbers.front()) + "-" +
-                                                     std::to_string(frame_numbers.back()) + ")");
+                                                     format_frame_list(frame_numbers) + ")");
 }
 
 }  // namespace statfilter

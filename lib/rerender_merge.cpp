@@ -7,6 +7,7 @@
 #include <map>
 
 #include "statfilter/error.hpp"
+#include "statfilter/frame_pattern.hpp"
 
 namespace statfilter {
 
@@ -16,11 +17,6 @@ std::map<int64_t, int64_t> frame_index(const Sequence& seq) {
     std::map<int64_t, int64_t> index;
     for (size_t i = 0; i < seq.frame_numbers().size(); ++i) index[seq.frame_numbers()[i]] = static_cast<int64_t>(i);
     return index;
-}
-
-std::string frame_range(const Sequence& seq) {
-    const auto& n = seq.frame_numbers();
-    return n.size() == 1 ? std::to_string(n.front()) : std::to_string(n.front()) + "-" + std::to_string(n.back());
 }
 
 void check_inputs(const Sequence& denoised, const Sequence& rerender, const MergeOptions& o, const Sequence& output) {
@@ -41,7 +37,7 @@ void check_inputs(const Sequence& denoised, const Sequence& rerender, const Merg
         if (!dindex.count(number))
             throw Error(Status::InvalidArgument, "the re-render has frame " + std::to_string(number) +
                                                      ", which the denoised sequence does not have (frames " +
-                                                     frame_range(denoised) + ")");
+                                                     format_frame_list(denoised.frame_numbers()) + ")");
     if (!o.crops && !o.mask) throw Error(Status::InvalidArgument, "merge needs the crop windows, a mask, or both");
     if (o.feather < 0) throw Error(Status::InvalidArgument, "feather must be >= 0");
     if (o.crops) check_crop_plan(*o.crops, d.width, d.height, denoised.frame_numbers());
@@ -55,7 +51,7 @@ void check_inputs(const Sequence& denoised, const Sequence& rerender, const Merg
             if (!dindex.count(number))
                 throw Error(Status::InvalidArgument, "the mask has frame " + std::to_string(number) +
                                                          ", which the denoised sequence does not have (frames " +
-                                                         frame_range(denoised) + ")");
+                                                         format_frame_list(denoised.frame_numbers()) + ")");
     }
 }
 

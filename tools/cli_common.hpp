@@ -75,6 +75,8 @@ void check_exr_output(const std::string& pattern);
 void write_output(const Args& args, const SequenceHandle& seq, const std::string& pattern, ProgressLine& progress);
 
 std::set<std::string> merged(std::initializer_list<std::set<std::string>> sets);
+// Ascending frame numbers compactly, {1,2,3,5} -> "1-3,5". The CLI's one copy, used by every command:
+// the library's (format_frame_list, lib/frame_pattern.cpp) is not in the C ABI the CLI is limited to.
 std::string frame_list_text(const std::vector<int64_t>& frames);
 
 }  // namespace statfilter_cli

@@ -5,15 +5,15 @@
 // window and compares it with the local noise level, estimated from the components beyond max_rank.
 // The work is the streamed low-rank stage (pipeline/low_rank_stage.hpp) with per-pixel ranks.
 #include "filters/builtin_filters.hpp"
+#include "filters/low_rank_filter.hpp"
 #include "filters/temporal_params.hpp"
-#include "pipeline/low_rank_stage.hpp"
 
 namespace statfilter {
 namespace {
 
-class ErrorThresholdFilter final : public Filter {
+class ErrorThresholdFilter final : public LowRankFilter {
 public:
-    ErrorThresholdFilter() : Filter(make_params()) { declare_image_result("rank_map"); }
+    ErrorThresholdFilter() : LowRankFilter(make_params(), true) { declare_image_result("rank_map"); }
 
     static std::vector<ParamSpec> make_params() {
         std::vector<ParamSpec> p = {
@@ -24,18 +24,6 @@ public:
         };
         for (auto& c : temporal_common_params()) p.push_back(c);
         return p;
-    }
-
-    std::unique_ptr<StreamStage> stream_stage() const override {
-        return std::make_unique<LowRankStage>(low_rank_options(params(), true));
-    }
-    Footprint footprint() const override { return stream_stage()->footprint(); }
-    double resident_copies() const override { return 0; }  // pixel tiles and K coefficient images
-
-protected:
-    void run(const Sequence& input, Sequence& output, const Progress& progress) override {
-        run_in_memory(*stream_stage(), input, output, progress, params().get_float("memory_mb") * 1024.0 * 1024.0,
-                      mutable_results());
     }
 };
 

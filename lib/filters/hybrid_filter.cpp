@@ -104,8 +104,7 @@ protected:
             return;
         }
         const Shape& s = input.shape();
-        const TemporalSetup setup = temporal_setup(params());
-        check_nonfinite(input, setup.nonfinite);
+        const TemporalSetup setup = temporal_setup(params(), input);
         // One basis serves alpha and, when nothing moves, the reconstruction itself.
         PreparedSeries series(input, ChannelSelection::all(s), setup.prep, setup.budget_bytes, 2);
         const TemporalBasis basis = compute_temporal_basis(series, {progress, 0.0, 0.2, "motion"});

@@ -133,8 +133,7 @@ void compute_beta(const Sequence& input, const ParamSet& params, MotionMaps& map
 }
 
 std::shared_ptr<Sequence> compute_alpha(const Sequence& input, const ParamSet& params, const ProgressSpan& progress) {
-    const TemporalSetup setup = temporal_setup(params);
-    check_nonfinite(input, setup.nonfinite);
+    const TemporalSetup setup = temporal_setup(params, input);
     PreparedSeries series(input, ChannelSelection::all(input.shape()), setup.prep, setup.budget_bytes, 2);
     const TemporalBasis basis = compute_temporal_basis(series, {progress.progress, progress.start, progress.span / 2, "motion"});
     return compute_alpha(series, basis, params,

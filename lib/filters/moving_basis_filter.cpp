@@ -124,8 +124,7 @@ public:
 
 protected:
     void run(const Sequence& input, Sequence& output, const Progress& progress) override {
-        const TemporalSetup setup = temporal_setup(params());
-        const int64_t repaired = check_nonfinite(input, setup.nonfinite);
+        const TemporalSetup setup = temporal_setup(params(), input);
         const Shape& shape = input.shape();
         const int64_t F = shape.frames, h = params().get_int("half_width");
         const double sigma = params().get_float("sigma");
@@ -170,7 +169,7 @@ protected:
                                     {progress, at + 0.4 * share, 0.6 * share, "reconstruct"});
         }
         mutable_results().set("mean_rank", rank_sum / static_cast<double>(windows));
-        mutable_results().set("nonfinite_repaired", static_cast<double>(repaired));
+        mutable_results().set("nonfinite_repaired", static_cast<double>(setup.nonfinite_samples));
     }
 };
 

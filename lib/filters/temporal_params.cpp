@@ -1,6 +1,7 @@
 #include "filters/temporal_params.hpp"
 
 #include "filters/frame_stages.hpp"
+#include "statfilter/nonfinite.hpp"
 
 namespace statfilter {
 
@@ -53,6 +54,12 @@ TemporalSetup temporal_setup(const ParamSet& params) {
     t.prep.keep_mean = params.get_int("keep_mean") != 0;
     t.shared_basis = params.get_int("shared_basis") != 0;
     t.budget_bytes = params.get_float("memory_mb") * 1024.0 * 1024.0;
+    return t;
+}
+
+TemporalSetup temporal_setup(const ParamSet& params, const Sequence& input) {
+    TemporalSetup t = temporal_setup(params);
+    t.nonfinite_samples = check_nonfinite(input, t.nonfinite);
     return t;
 }
 

@@ -15,9 +15,13 @@ struct TemporalSetup {
     NonFinitePolicy nonfinite = NonFinitePolicy::Error;
     bool shared_basis = true;
     double budget_bytes = 0;
+    int64_t nonfinite_samples = 0;  // NaN/Inf samples of the input, repaired in preparation (the second form)
 };
 
 TemporalSetup temporal_setup(const ParamSet& params);
+// The preamble of a temporal filter's in-memory run: the setup, and the input checked against the
+// nonfinite policy (error: throws naming the first NaN/Inf; repair: counts them).
+TemporalSetup temporal_setup(const ParamSet& params, const Sequence& input);
 
 // The channel groups that each get their own basis: all channels together, or one each.
 std::vector<ChannelSelection> basis_groups(const Shape& shape, bool shared_basis);

@@ -1,4 +1,5 @@
-// Loading one plugin file: dlopen, the entry symbol, the ABI version and the plugin's description.
+// Loading one plugin file: dlopen, the entry symbol, its descriptor (plugin_descriptor.hpp), the probe
+// and one instance made as a check.
 #pragma once
 #include <string>
 

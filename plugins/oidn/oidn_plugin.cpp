@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include <statfilter/statfilter.h>
+#include <statfilter/statfilter_plugin.h>
 
 #include "aux_passes.hpp"
 #include "oidn_library.hpp"
@@ -93,11 +93,15 @@ class Denoiser {
 public:
     explicit Denoiser(const OidnApi& api) : api_(api) {}
     ~Denoiser() {
+        if (filter_) api_.releaseFilter(filter_);
         if (device_) api_.releaseDevice(device_);
     }
 
     Settings settings;
 
+    // statfilter calls this once per frame (execute_frame), one call at a time: the plugin is not
+    // marked thread-safe, as OIDN already spreads one frame over every core. The OIDN filter is kept
+    // from call to call while the frame size, guides and settings stay the same.
     void run(const sf_plugin_run& run) {
         const sf_shape& s = run.shape;
         if (s.channels != 1 && s.channels != 3 && s.channels != 4)
@@ -115,48 +119,61 @@ public:
         }
 
         open_device();
-        const size_t pixels = static_cast<size_t>(s.width * s.height);
-        std::vector<float> color(pixels * 3), output(pixels * 3);
-        OidnFilter filter = api_.newFilter(device_, "RT");
-        check_device(api_, device_, "oidnNewFilter");
-        struct Release {
-            const OidnApi& api;
-            OidnFilter f;
-            ~Release() { if (f) api.releaseFilter(f); }
-        } release{api_, filter};
-        const size_t frame_floats = pixels * 3;
-        auto share = [&](const char* name, float* data) {
-            api_.setSharedFilterImage(filter, name, data, kOidnFormatFloat3, static_cast<size_t>(s.width),
-                                      static_cast<size_t>(s.height), 0, 3 * sizeof(float), 3 * sizeof(float) * s.width);
-        };
-        share("color", color.data());
-        share("output", output.data());
-        if (!albedo.empty()) share("albedo", albedo.data());
-        if (!normal.empty()) share("normal", normal.data());
-        api_.setFilterBool(filter, "hdr", settings.hdr != 0);
-        api_.setFilterBool(filter, "cleanAux", settings.clean_aux != 0);
-        api_.setFilterInt(filter, "quality", quality_value(settings.quality));
-
+        const FilterKey key{s.width, s.height, !albedo.empty(), !normal.empty(), settings.hdr, settings.clean_aux,
+                            settings.quality};
+        if (!filter_ || !(key == key_)) make_filter(key);
+        const size_t frame_floats = static_cast<size_t>(s.width * s.height) * 3;
         for (int64_t f = 0; f < s.frames; ++f) {
-            if (run.progress && run.progress(run.progress_user, static_cast<double>(f) / s.frames, "oidn"))
-                throw OidnFailure(SF_ERROR_CANCELLED, "cancelled");
-            load_color(run, f, color);
-            if (f > 0) {  // the guides of this frame: re-point the shared images
-                if (!albedo.empty()) share("albedo", albedo.data() + f * frame_floats);
-                if (!normal.empty()) share("normal", normal.data() + f * frame_floats);
-            }
-            if (f == 0 || !albedo.empty()) {
-                api_.commitFilter(filter);
+            load_color(run, f, color_);
+            // This frame's guides: re-pointing a shared image needs a new commit.
+            if (!albedo.empty()) share("albedo", albedo.data() + f * frame_floats);
+            if (!normal.empty()) share("normal", normal.data() + f * frame_floats);
+            if (!committed_ || !albedo.empty()) {
+                api_.commitFilter(filter_);
                 check_device(api_, device_, "oidnCommitFilter");
+                committed_ = true;
             }
-            api_.executeFilter(filter);
+            api_.executeFilter(filter_);
             check_device(api_, device_, "oidnExecuteFilter");
-            store_output(run, f, output);
+            store_output(run, f, output_);
         }
-        if (run.progress) run.progress(run.progress_user, 1.0, "oidn");
     }
 
 private:
+    // What an OIDN filter was set up for; another value needs a new filter.
+    struct FilterKey {
+        int64_t width = 0, height = 0;
+        bool albedo = false, normal = false;
+        int hdr = 1, clean_aux = 0;
+        std::string quality;
+        bool operator==(const FilterKey& o) const {
+            return width == o.width && height == o.height && albedo == o.albedo && normal == o.normal && hdr == o.hdr &&
+                   clean_aux == o.clean_aux && quality == o.quality;
+        }
+    };
+
+    void share(const char* name, float* data) {
+        api_.setSharedFilterImage(filter_, name, data, kOidnFormatFloat3, static_cast<size_t>(key_.width),
+                                  static_cast<size_t>(key_.height), 0, 3 * sizeof(float),
+                                  3 * sizeof(float) * static_cast<size_t>(key_.width));
+    }
+
+    void make_filter(const FilterKey& key) {
+        if (filter_) api_.releaseFilter(filter_);
+        filter_ = api_.newFilter(device_, "RT");
+        committed_ = false;  // also when a call fails before its commit: the next one commits
+        check_device(api_, device_, "oidnNewFilter");
+        key_ = key;
+        const size_t floats = static_cast<size_t>(key.width * key.height) * 3;
+        color_.assign(floats, 0.0f);  // sized once per filter: OIDN keeps pointers into them
+        output_.assign(floats, 0.0f);
+        share("color", color_.data());
+        share("output", output_.data());
+        api_.setFilterBool(filter_, "hdr", key.hdr != 0);
+        api_.setFilterBool(filter_, "cleanAux", key.clean_aux != 0);
+        api_.setFilterInt(filter_, "quality", quality_value(key.quality));
+    }
+
     void open_device() {
         if (device_) return;
         device_ = api_.newDevice(kOidnDeviceDefault);
@@ -204,6 +221,10 @@ private:
 
     const OidnApi& api_;
     OidnDevice device_ = nullptr;
+    OidnFilter filter_ = nullptr;
+    bool committed_ = false;
+    FilterKey key_;
+    std::vector<float> color_, output_;
 };
 
 // ---- the plugin's C functions: no exception leaves them -----------------------------------------
@@ -274,8 +295,8 @@ sf_status set_param(void* instance, const char* name, const char* value, char* e
     });
 }
 
-sf_status execute(void* instance, const sf_plugin_run* run, char* error, size_t size) {
-    return guarded(error, size, [&] { static_cast<Denoiser*>(instance)->run(*run); });
+sf_status execute_frame(void* instance, const sf_plugin_run* frame, char* error, size_t size) {
+    return guarded(error, size, [&] { static_cast<Denoiser*>(instance)->run(*frame); });
 }
 
 void release(void* instance) { delete static_cast<Denoiser*>(instance); }
@@ -291,8 +312,10 @@ const sf_plugin kPlugin = {
     probe,
     create,
     set_param,
-    execute,
+    nullptr,  // no whole-sequence execute: statfilter runs the frames through execute_frame
     release,
+    0,  // not thread-safe: one call at a time (OIDN spreads each frame over the cores itself)
+    execute_frame,
 };
 
 }  // namespace

@@ -1,4 +1,5 @@
-"""ctypes mirror of capi/include/statfilter/statfilter.h.
+"""ctypes mirror of capi/include/statfilter/statfilter.h (and the headers it includes,
+statfilter_types.h and statfilter_plugin.h).
 
 Every ``sf_`` function of the header is declared in ``FUNCTIONS`` with its ``restype`` and
 ``argtypes``; ``lib`` is the loaded library with all of them applied. Structures mirror the C
@@ -7,7 +8,7 @@ structs member for member (a test parses the header and compares).
 
 import os
 from ctypes import (CFUNCTYPE, POINTER, Structure, c_char_p, c_double, c_float, c_int, c_int64,
-                    c_size_t, c_void_p)
+                    c_size_t, c_uint, c_void_p)
 
 from ._library import load_library
 
@@ -37,8 +38,10 @@ sf_filter_kind = c_int
 SF_FILTER_TEMPORAL = 0
 SF_FILTER_SINGLE_FRAME = 1
 
-SF_PLUGIN_ABI_VERSION = 1
+SF_PLUGIN_ABI_VERSION = 2
+SF_PLUGIN_ABI_VERSION_FIRST = 1
 SF_PLUGIN_ENTRY = "sf_plugin_entry"
+SF_PLUGIN_THREAD_SAFE = 1
 
 # ---- opaque handles --------------------------------------------------------------------------
 
@@ -151,6 +154,7 @@ sf_plugin_probe_fn = CFUNCTYPE(sf_status, c_char_p, c_size_t)
 sf_plugin_create_fn = CFUNCTYPE(sf_status, POINTER(c_void_p), c_char_p, c_size_t)
 sf_plugin_set_param_fn = CFUNCTYPE(sf_status, c_void_p, c_char_p, c_char_p, c_char_p, c_size_t)
 sf_plugin_execute_fn = CFUNCTYPE(sf_status, c_void_p, POINTER(sf_plugin_run), c_char_p, c_size_t)
+sf_plugin_execute_frame_fn = CFUNCTYPE(sf_status, c_void_p, POINTER(sf_plugin_run), c_char_p, c_size_t)
 sf_plugin_release_fn = CFUNCTYPE(None, c_void_p)
 
 
@@ -166,7 +170,9 @@ class sf_plugin(Structure):
                 ("create", sf_plugin_create_fn),
                 ("set_param", sf_plugin_set_param_fn),
                 ("execute", sf_plugin_execute_fn),
-                ("release", sf_plugin_release_fn)]
+                ("release", sf_plugin_release_fn),
+                ("flags", c_uint),  # plugin ABI version 2
+                ("execute_frame", sf_plugin_execute_frame_fn)]
 
 
 sf_plugin_entry_fn = CFUNCTYPE(POINTER(sf_plugin))

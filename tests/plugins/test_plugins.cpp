@@ -1,5 +1,8 @@
-// Filter plugins through the C ABI: the tiny "scale" plugin and broken ones built next to this test
-// (tests/plugins/CMakeLists.txt), found on STATFILTER_PLUGIN_PATH; and the prefilter stage.
+// Filter plugins through the C ABI: the tiny "scale" plugin, its older-ABI and serial variants and
+// broken ones built next to this test (tests/plugins/CMakeLists.txt), found on STATFILTER_PLUGIN_PATH;
+// and the prefilter stage.
+#include <dlfcn.h>
+
 #include <cmath>
 #include <string>
 #include <vector>
@@ -53,6 +56,25 @@ std::vector<float> run_filter(sf_filter f, sf_sequence in) {
     return samples_of(out.get());
 }
 
+// How often statfilter called the plugin's whole-sequence and per-frame entries, read from the
+// plugin's own counters (test_plugin_calls in scale_plugin.c) in the copy statfilter loaded.
+struct Calls {
+    long whole = 0, frames = 0;
+};
+
+Calls calls_of(const char* name) {
+    const sf_filter_info info = info_of(name);
+    void* library = dlopen(info.origin, RTLD_NOW | RTLD_NOLOAD);
+    EXPECT_NE(library, nullptr) << info.origin << " is not loaded";
+    Calls c;
+    if (!library) return c;
+    auto read = reinterpret_cast<void (*)(long*, long*)>(dlsym(library, "test_plugin_calls"));
+    EXPECT_NE(read, nullptr);
+    if (read) read(&c.whole, &c.frames);
+    dlclose(library);  // drops only the reference dlopen just took
+    return c;
+}
+
 }  // namespace
 
 TEST(Plugins, ListedWithKindOriginAndVersion) {
@@ -80,7 +102,7 @@ TEST(Plugins, ListedWithKindOriginAndVersion) {
         all.push_back(info.name);
         EXPECT_EQ(info.available == 0, *info.problem != '\0') << info.name;
     }
-    for (const char* name : {"copy", "pca", "scale", "notlib", "nosymbol", "badabi", "misnamed"})
+    for (const char* name : {"copy", "pca", "scale", "oldabi", "serial", "notlib", "nosymbol", "badabi", "misnamed"})
         EXPECT_TRUE(contains(all, name)) << name;
     EXPECT_EQ(all.front(), "copy");
     sf_filter_info info;
@@ -89,8 +111,7 @@ TEST(Plugins, ListedWithKindOriginAndVersion) {
 
     // The creatable list has the working plugin and none of the broken ones.
     const auto names = available_names();
-    EXPECT_TRUE(contains(names, "scale"));
-    EXPECT_TRUE(contains(names, "pca"));
+    for (const char* usable : {"scale", "oldabi", "serial", "pca"}) EXPECT_TRUE(contains(names, usable)) << usable;
     for (const char* broken : {"notlib", "nosymbol", "badabi", "misnamed"}) EXPECT_FALSE(contains(names, broken)) << broken;
 }
 
@@ -108,10 +129,90 @@ TEST(Plugins, LibraryWithoutTheEntrySymbol) {
     expect_failure(sf_filter_create("nosymbol", &f), SF_ERROR_UNSUPPORTED, {"statfilter_nosymbol.so", "sf_plugin_entry"});
 }
 
-TEST(Plugins, WrongAbiVersion) {
+TEST(Plugins, NewerAbiVersionIsRefusedNamingBothVersions) {
     sf_filter f = nullptr;
+    const std::string versions = "loads versions " + std::to_string(SF_PLUGIN_ABI_VERSION_FIRST) + " to " +
+                                 std::to_string(SF_PLUGIN_ABI_VERSION);
     expect_failure(sf_filter_create("badabi", &f), SF_ERROR_UNSUPPORTED,
-                   {"statfilter_badabi.so", "ABI version 999", "loads version " + std::to_string(SF_PLUGIN_ABI_VERSION)});
+                   {"statfilter_badabi.so", "plugin ABI version 999 is newer than this statfilter", versions});
+    EXPECT_EQ(f, nullptr);
+    EXPECT_NE(std::string(info_of("badabi").problem).find(versions), std::string::npos);
+}
+
+// A version 1 plugin (the first sf_plugin layout, parameter entries smaller than today's) loads, gets
+// defaults for what it lacks, and runs through its whole-sequence execute.
+TEST(Plugins, OlderAbiVersionLoadsAndRuns) {
+    const sf_filter_info info = info_of("oldabi");
+    EXPECT_EQ(info.available, 1) << info.problem;
+    EXPECT_EQ(info.kind, SF_FILTER_SINGLE_FRAME);
+    EXPECT_STREQ(info.version, "1.0.0");
+    Filt f = create("oldabi");
+    int count = 0;
+    ASSERT_SF_OK(sf_filter_param_count(f.get(), &count));
+    ASSERT_EQ(count, 3);
+    sf_param_info p;
+    p.struct_size = sizeof p;
+    ASSERT_SF_OK(sf_filter_param_info(f.get(), 0, &p));
+    EXPECT_STREQ(p.name, "factor");
+    EXPECT_EQ(p.max, 1000);
+    ASSERT_SF_OK(sf_filter_param_info(f.get(), 2, &p));
+    EXPECT_STREQ(p.name, "fail");
+    EXPECT_STREQ(p.choices, "");  // past the entry's size: the default, free text
+    ASSERT_SF_OK(sf_filter_set_float(f.get(), "offset", 0.5));
+
+    const Calls before = calls_of("oldabi");
+    Seq in = test_sequence();
+    const std::vector<float> samples = samples_of(in.get());
+    const std::vector<float> out = run_filter(f.get(), in.get());
+    ASSERT_EQ(out.size(), samples.size());
+    for (size_t i = 0; i < out.size(); ++i) ASSERT_FLOAT_EQ(out[i], 2 * samples[i] + 0.5f) << i;
+    const Calls after = calls_of("oldabi");
+    EXPECT_EQ(after.whole - before.whole, 1);
+    EXPECT_EQ(after.frames, before.frames);
+
+    ASSERT_SF_OK(sf_filter_set_string(f.get(), "fail", "yes"));
+    Seq o = create_sequence(shape_of(12, 6, 7, 3));
+    expect_failure(sf_filter_execute(f.get(), in.get(), o.get()), SF_ERROR_NUMERIC, {"oldabi: asked to fail at frame 1"});
+}
+
+// A plugin with execute_frame is called once per frame by statfilter, never with the whole sequence.
+TEST(Plugins, PerFrameEntryRunsEveryFrame) {
+    Filt f = create("scale");
+    const Calls before = calls_of("scale");
+    Seq in = test_sequence();
+    const std::vector<float> samples = samples_of(in.get());
+    const std::vector<float> out = run_filter(f.get(), in.get());
+    for (size_t i = 0; i < out.size(); ++i) ASSERT_FLOAT_EQ(out[i], 2 * samples[i]) << i;
+    const Calls after = calls_of("scale");
+    EXPECT_EQ(after.frames - before.frames, 12);
+    EXPECT_EQ(after.whole, before.whole);
+}
+
+// Without SF_PLUGIN_THREAD_SAFE no two calls overlap (the plugin fails if they do): in memory, and
+// streamed as a prefilter with several threads, where each thread has an instance of its own.
+TEST(Plugins, NotThreadSafeMeansOneCallAtATime) {
+    Seq in = test_sequence();
+    Filt serial = create("serial");
+    const std::vector<float> samples = samples_of(in.get());
+    const std::vector<float> out = run_filter(serial.get(), in.get());
+    for (size_t i = 0; i < out.size(); ++i) ASSERT_FLOAT_EQ(out[i], 2 * samples[i]) << i;
+
+    TempDir dir;
+    const std::string input = dir.file("in.####.exr"), output = dir.file("out.####.exr");
+    const sf_write_options w = write_options(SF_PIXEL_FLOAT);
+    ASSERT_SF_OK(sf_sequence_write(in.get(), input.c_str(), &w));
+    Filt pca = create("pca");
+    ASSERT_SF_OK(sf_filter_set_string(pca.get(), "prefilter", "serial"));
+    sf_run_options run;
+    sf_run_options_init(&run);
+    run.threads = 4;
+    const Calls before = calls_of("serial");
+    ASSERT_EQ(sf_filter_run(pca.get(), input.c_str(), nullptr, output.c_str(), &w, &run), SF_OK)
+        << sf_filter_last_error(pca.get());
+    double streamed = 0;
+    ASSERT_SF_OK(sf_filter_result_float(pca.get(), "run.streamed", &streamed));
+    EXPECT_EQ(streamed, 1);
+    EXPECT_EQ(calls_of("serial").frames - before.frames, 12);
 }
 
 TEST(Plugins, NameMustMatchTheFile) {
@@ -208,7 +309,7 @@ TEST(Plugins, PluginErrorsAndCancellationReachTheCaller) {
     ASSERT_SF_OK(sf_filter_set_string(f.get(), "fail", "yes"));
     Seq in = test_sequence();
     Seq out = create_sequence(shape_of(12, 6, 7, 3));
-    expect_failure(sf_filter_execute(f.get(), in.get(), out.get()), SF_ERROR_NUMERIC, {"scale: asked to fail at frame 1"});
+    expect_failure(sf_filter_execute(f.get(), in.get(), out.get()), SF_ERROR_NUMERIC, {"scale: asked to fail at frame"});
     EXPECT_NE(std::string(sf_filter_last_error(f.get())).find("asked to fail"), std::string::npos);
 
     ASSERT_SF_OK(sf_filter_set_string(f.get(), "fail", "no"));

@@ -14,9 +14,21 @@ from statfilter import _capi
 import statfilter
 
 
-def _header_text():
-    with open(HEADER, encoding="utf-8") as f:
+def _raw_header_text(path=HEADER, seen=None):
+    """statfilter.h with the headers of its own directory that it includes ("x.h") in place, each once."""
+    seen = set() if seen is None else seen
+    seen.add(os.path.basename(path))
+    with open(path, encoding="utf-8") as f:
         text = f.read()
+
+    def include(m):
+        name = m.group(1)
+        return "" if name in seen else _raw_header_text(os.path.join(os.path.dirname(path), name), seen)
+    return re.sub(r'^#include "([\w.]+)"[^\n]*$', include, text, flags=re.M)
+
+
+def _header_text():
+    text = _raw_header_text()
     text = re.sub(r"/\*.*?\*/", " ", text, flags=re.S)
     text = re.sub(r"//[^\n]*", " ", text)
     # Drop preprocessor lines (the SF_API definition itself).
@@ -82,7 +94,7 @@ def expected_ctype(c_type):
     """The ctypes type a C type must be bound as."""
     base = {
         "void": None, "int": ctypes.c_int, "double": ctypes.c_double, "float": ctypes.c_float,
-        "int64_t": ctypes.c_int64, "size_t": ctypes.c_size_t,
+        "int64_t": ctypes.c_int64, "size_t": ctypes.c_size_t, "unsigned": ctypes.c_uint,
         "sf_sequence": _capi.sf_sequence, "sf_filter": _capi.sf_filter,
         "sf_progress_callback": _capi.sf_progress_callback, "sf_error_callback": _capi.sf_error_callback,
         "char*": ctypes.c_char_p, "void*": ctypes.c_void_p,
@@ -166,12 +178,20 @@ def test_enums_match():
 def test_callbacks_match():
     callbacks = header_callbacks()
     assert set(callbacks) == {"sf_progress_callback", "sf_error_callback", "sf_plugin_probe_fn", "sf_plugin_create_fn",
-                              "sf_plugin_set_param_fn", "sf_plugin_execute_fn", "sf_plugin_release_fn",
-                              "sf_plugin_entry_fn"}
+                              "sf_plugin_set_param_fn", "sf_plugin_execute_fn", "sf_plugin_execute_frame_fn",
+                              "sf_plugin_release_fn", "sf_plugin_entry_fn"}
     for name, (ret, params) in callbacks.items():
         py = getattr(_capi, name)
         assert py._restype_ is expected_ctype(ret), name
         assert list(py._argtypes_) == [expected_ctype(t) for t in params], name
+
+
+def test_plugin_constants_match_header():
+    define = dict(re.findall(r"#define\s+(SF_PLUGIN_\w+)\s+(\S+)", _raw_header_text()))
+    assert int(define["SF_PLUGIN_ABI_VERSION"]) == _capi.SF_PLUGIN_ABI_VERSION
+    assert int(define["SF_PLUGIN_ABI_VERSION_FIRST"]) == _capi.SF_PLUGIN_ABI_VERSION_FIRST
+    assert int(define["SF_PLUGIN_THREAD_SAFE"].rstrip("u")) == _capi.SF_PLUGIN_THREAD_SAFE
+    assert define["SF_PLUGIN_ENTRY"].strip('"') == _capi.SF_PLUGIN_ENTRY
 
 
 def test_version_matches_header():

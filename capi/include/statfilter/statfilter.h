@@ -27,6 +27,11 @@
 #include <stddef.h>
 #include <stdint.h>
 
+/* The types shared with plugins (sf_status, sf_shape, sf_strides, sf_param_info, ...), and the
+ * plugin interface itself: included here so that every consumer of this header keeps seeing them. */
+#include "statfilter_types.h"
+#include "statfilter_plugin.h"
+
 #if defined(_WIN32)
 #  if defined(STATFILTER_BUILDING)
 #    define SF_API __declspec(dllexport)
@@ -56,18 +61,6 @@ SF_API const char* sf_version_string(void);
 
 /* ---- status and errors -------------------------------------------------------------------- */
 
-typedef enum sf_status {
-    SF_OK = 0,
-    SF_ERROR_INVALID_ARGUMENT = 1, /* NULL pointer, bad value, wrong size, unknown name */
-    SF_ERROR_OUT_OF_MEMORY = 2,
-    SF_ERROR_IO = 3,               /* a file could not be read or written */
-    SF_ERROR_NOT_FOUND = 4,        /* no such frame, channel, layer, filter or parameter */
-    SF_ERROR_UNSUPPORTED = 5,
-    SF_ERROR_CANCELLED = 6,        /* the progress callback asked to stop */
-    SF_ERROR_NUMERIC = 7,          /* NaN/Inf or other values the chosen policy rejects */
-    SF_ERROR_INTERNAL = 8
-} sf_status;
-
 /* A short constant name for a status, e.g. "SF_ERROR_IO". */
 SF_API const char* sf_status_name(sf_status status);
 /* The message of the last failed call on this thread ("" if none). */
@@ -77,28 +70,9 @@ SF_API const char* sf_last_error(void);
 typedef void (*sf_error_callback)(void* user, sf_status status, const char* message);
 SF_API void sf_set_error_callback(sf_error_callback callback, void* user);
 
-/* Progress: fraction in [0, 1] and a short stage name. Return non-zero to cancel the work, which
- * then fails with SF_ERROR_CANCELLED and leaves no partial output file behind. */
-typedef int (*sf_progress_callback)(void* user, double fraction, const char* stage);
-
 /* ---- sequences ---------------------------------------------------------------------------- */
 
 typedef struct sf_sequence_s* sf_sequence;
-
-typedef struct sf_shape {
-    int64_t frames;
-    int64_t height;
-    int64_t width;
-    int64_t channels;
-} sf_shape;
-
-/* Byte distances between neighbouring channels, pixels (x), rows (y) and frames. */
-typedef struct sf_strides {
-    int64_t channel;
-    int64_t pixel;
-    int64_t row;
-    int64_t frame;
-} sf_strides;
 
 /* A new sequence owning zero-filled, contiguous (frame, row, pixel, channel) memory.
  * Channels are named "C0", "C1", ... until renamed; frames are numbered 1..F. Dimensions are
@@ -210,19 +184,6 @@ SF_API sf_status sf_sequence_write(sf_sequence sequence, const char* pattern, co
 
 typedef struct sf_filter_s* sf_filter;
 
-typedef enum sf_param_type { SF_PARAM_INT = 0, SF_PARAM_FLOAT = 1, SF_PARAM_STRING = 2 } sf_param_type;
-
-typedef struct sf_param_info {
-    size_t struct_size;        /* set by the caller to sizeof(sf_param_info) */
-    const char* name;
-    sf_param_type type;
-    const char* default_value; /* as text */
-    const char* description;
-    double min;                /* for int and float parameters */
-    double max;
-    const char* choices;       /* for string parameters with fixed values: comma list, else "" */
-} sf_param_info;
-
 /* Names of the filters that can be created here: the built-ins and every plugin that loaded
  * (see "filter plugins" below), index 0 .. sf_filter_count() - 1. */
 SF_API int sf_filter_count(void);
@@ -303,80 +264,9 @@ SF_API sf_status sf_filter_run(sf_filter filter, const char* input_pattern, cons
 
 /* ---- filter plugins ----------------------------------------------------------------------- */
 
-/* A filter can live in its own shared library, a plugin. statfilter finds one named
- * statfilter_NAME.so (NAME = the filter's name) in each directory of $STATFILTER_PLUGIN_PATH
- * (colon-separated, searched in order), then in the directory of libstatfilter itself, loads it
- * with dlopen the first time the filter is asked for (or the filters are listed) and calls its one
- * exported function SF_PLUGIN_ENTRY, of type sf_plugin_entry_fn. A file that does not load, lacks
- * that symbol or declares another plugin ABI version is never used: asking for it fails with a
- * message naming the file, and sf_filter_info reports why. Plugins stay loaded until exit. */
-
-/* The plugin ABI version this header describes; a plugin's sf_plugin.abi_version must equal it. */
-#define SF_PLUGIN_ABI_VERSION 1
-/* The name of the function every plugin exports. */
-#define SF_PLUGIN_ENTRY "sf_plugin_entry"
-/* Put before the entry function's definition in a plugin: exported with C linkage. */
-#ifdef __cplusplus
-#  define SF_PLUGIN_EXPORT extern "C" __attribute__((visibility("default")))
-#else
-#  define SF_PLUGIN_EXPORT __attribute__((visibility("default")))
-#endif
-
-typedef enum sf_filter_kind {
-    SF_FILTER_TEMPORAL = 0,    /* needs the whole sequence (pca, error-threshold, ...) */
-    SF_FILTER_SINGLE_FRAME = 1 /* works frame by frame: usable as a temporal filter's prefilter */
-} sf_filter_kind;
-
-/* What a plugin's execute gets: the whole sequence, input and output as strided float buffers
- * (byte strides, as sf_sequence_data), plus where the input came from so that a plugin can read
- * matching frames of other passes (e.g. albedo) with sf_sequence_read. */
-typedef struct sf_plugin_run {
-    size_t struct_size;               /* sizeof(sf_plugin_run) of the host; fields past a plugin's
-                                         own size are unknown to it, never missing to it */
-    sf_shape shape;
-    const float* input;
-    sf_strides input_strides;
-    float* output;                    /* may be the same memory as input (same strides) */
-    sf_strides output_strides;
-    const int64_t* frame_numbers;     /* shape.frames numbers, as on disk */
-    const char* const* channel_names; /* shape.channels names */
-    const char* source_pattern;       /* the pattern the input was read from; "" if not from files */
-    const char* source_channels;      /* the channels or layer it was read with; "" = all */
-    sf_progress_callback progress;    /* call per frame; non-zero back: stop, return SF_ERROR_CANCELLED */
-    void* progress_user;
-} sf_plugin_run;
-
-/* The plugin's functions. Every one that can fail returns an sf_status and, on failure, writes a
- * NUL-terminated message of at most error_size bytes into error. None may throw or longjmp. */
-/* Whether the plugin can run on this machine (e.g. its runtime library is present). */
-typedef sf_status (*sf_plugin_probe_fn)(char* error, size_t error_size);
-typedef sf_status (*sf_plugin_create_fn)(void** instance, char* error, size_t error_size);
-/* Called before each execute with every parameter as text, already checked by statfilter against
- * the plugin's parameter table (type, range, choices). */
-typedef sf_status (*sf_plugin_set_param_fn)(void* instance, const char* name, const char* value, char* error,
-                                            size_t error_size);
-typedef sf_status (*sf_plugin_execute_fn)(void* instance, const sf_plugin_run* run, char* error,
-                                          size_t error_size);
-typedef void (*sf_plugin_release_fn)(void* instance);
-
-typedef struct sf_plugin {
-    int abi_version;             /* SF_PLUGIN_ABI_VERSION; first, so that any version can be checked */
-    const char* name;            /* the filter's name: must match the file name statfilter_NAME.so */
-    const char* version;         /* the plugin's own version, e.g. "1.0.0" */
-    const char* description;
-    sf_filter_kind kind;
-    int param_count;
-    const sf_param_info* params; /* param_count entries, each of size params[0].struct_size */
-    sf_plugin_probe_fn probe;    /* may be NULL: always usable */
-    sf_plugin_create_fn create;
-    sf_plugin_set_param_fn set_param;
-    sf_plugin_execute_fn execute;
-    sf_plugin_release_fn release;
-} sf_plugin;
-
-/* A plugin exports:  SF_PLUGIN_EXPORT const sf_plugin* sf_plugin_entry(void);
- * returning a pointer that stays valid while the library is loaded. */
-typedef const sf_plugin* (*sf_plugin_entry_fn)(void);
+/* A filter can live in its own shared library, a plugin: statfilter_plugin.h (included above)
+ * describes how one is written, found and loaded. The functions below list every filter found,
+ * built-in or plugin. */
 
 /* What statfilter knows about one filter, built-in or plugin. */
 typedef struct sf_filter_info {
