@@ -31,7 +31,7 @@ struct CropOptions {
     // The render cost: the pixels one more renderer start-up is worth (scene load, BVH build, kernel
     // set-up, farm scheduling, as the time of rendering that many pixels). Two windows merge when
     // the pixels their bounding box adds cost at most one start-up (extra <= window_cost); 0 merges
-    // only overlapping windows. See docs/rerender.md for how to measure it for a renderer.
+    // only windows that overlap or whose union adds no pixel. See docs/rerender.md for how to measure it for a renderer.
     int64_t window_cost = 64;
 };
 

@@ -132,6 +132,28 @@ TEST(CropWindows, RenderCostWeighsStartUpAgainstExtraPixels) {
     EXPECT_EQ(cover_mask(m, H, W, o), (std::vector<CropWindow>{CropWindow{8, 8, 45, 30}}));
 }
 
+// Cost 0 still merges windows whose union adds no pixel: grown to 4 x 4, the pixels at x 1 and 5
+// give {0,1,4,4} and {4,1,4,4}, side by side; at x 1 and 6 a 1 x 4 gap (4 pixels) stays at cost 0.
+TEST(CropWindows, RenderCostZeroMergesOnlyWhatCostsNothing) {
+    const int64_t H = 10, W = 12;
+    CropOptions o;
+    o.padding = 0;
+    o.min_size = 4;
+    o.window_cost = 0;
+    auto touching = blank(H, W);
+    set(touching, W, 1, 2);
+    set(touching, W, 5, 2);
+    EXPECT_EQ(cover_mask(touching, H, W, o), (std::vector<CropWindow>{CropWindow{0, 1, 8, 4}}));
+    auto gap = blank(H, W);
+    set(gap, W, 1, 2);
+    set(gap, W, 6, 2);
+    EXPECT_EQ(cover_mask(gap, H, W, o), (std::vector<CropWindow>{CropWindow{0, 1, 4, 4}, CropWindow{5, 1, 4, 4}}));
+    o.window_cost = 3;
+    EXPECT_EQ(cover_mask(gap, H, W, o).size(), 2u);
+    o.window_cost = 4;
+    EXPECT_EQ(cover_mask(gap, H, W, o), (std::vector<CropWindow>{CropWindow{0, 1, 9, 4}}));
+}
+
 // Each merge saves one start-up for at most as many pixels, so the plan's cost (pixels + windows x
 // cost) at a render cost is never above that of the unmerged windows (cost 0) counted at it.
 TEST(CropWindows, MergingNeverRaisesThePlansCost) {
