@@ -32,6 +32,8 @@ int64_t CropPlan::window_count() const {
     return n;
 }
 
+int64_t CropPlan::cost_pixels() const { return window_pixels() + window_count() * options.window_cost; }
+
 namespace {
 
 CropWindow bounding_box(const CropWindow& a, const CropWindow& b) {
@@ -187,20 +189,24 @@ std::string crop_plan_to_json(const CropPlan& plan) {
     j += "  \"window_count\": " + std::to_string(plan.window_count()) + ",\n  \"window_pixels\": " +
          std::to_string(plan.window_pixels()) + ",\n  \"window_fraction\": " +
          json_number(static_cast<double>(plan.window_pixels()) / pixels) + ",\n";
+    j += "  \"cost_pixels\": " + std::to_string(plan.cost_pixels()) + ",\n";
     j += "  \"render_frames\": " + json_quote(frame_ranges(plan.frames)) + ",\n";
     j += "  \"frames\": [";
     for (size_t i = 0; i < plan.frames.size(); ++i) {
         const FrameCrops& f = plan.frames[i];
         j += (i ? ",\n" : "\n");
+        int64_t frame_pixels = 0;
+        for (const CropWindow& w : f.windows) frame_pixels += w.area();
         j += "    {\"frame\": " + std::to_string(f.frame) + ", \"flagged_pixels\": " + std::to_string(f.flagged) +
-             ", \"windows\": [";
+             ", \"window_count\": " + std::to_string(f.windows.size()) + ", \"window_pixels\": " +
+             std::to_string(frame_pixels) + ", \"windows\": [";
         for (size_t k = 0; k < f.windows.size(); ++k) {
             const CropWindow& w = f.windows[k];
             // border: the same window as fractions of the frame, y up from the bottom edge (the
             // convention of Blender's render border, min_x, min_y, max_x, max_y).
             const double W = static_cast<double>(plan.width), H = static_cast<double>(plan.height);
             j += (k ? ",\n      " : "\n      ");
-            j += "{\"x\": " + std::to_string(w.x) + ", \"y\": " + std::to_string(w.y) + ", \"width\": " +
+            j += "{\"index\": " + std::to_string(k) + ", \"x\": " + std::to_string(w.x) + ", \"y\": " + std::to_string(w.y) + ", \"width\": " +
                  std::to_string(w.width) + ", \"height\": " + std::to_string(w.height) + ", \"border\": [" +
                  json_number(w.x / W) + ", " + json_number(1.0 - (w.y + w.height) / H) + ", " +
                  json_number((w.x + w.width) / W) + ", " + json_number(1.0 - w.y / H) + "]}";

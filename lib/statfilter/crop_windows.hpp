@@ -28,7 +28,11 @@ struct FrameCrops {
 struct CropOptions {
     int64_t padding = 1;       // pixels added around the flagged pixels on every side
     int64_t min_size = 4;      // windows narrower or lower than this grow to it (within the image)
-    int64_t window_cost = 64;  // merge two windows when their bounding box adds at most this many pixels
+    // The render cost: the pixels one more renderer start-up is worth (scene load, BVH build, kernel
+    // set-up, farm scheduling, as the time of rendering that many pixels). Two windows merge when
+    // the pixels their bounding box adds cost at most one start-up (extra <= window_cost); 0 merges
+    // only windows that overlap or whose union adds no pixel. See docs/rerender.md for how to measure it for a renderer.
+    int64_t window_cost = 64;
 };
 
 struct CropPlan {
@@ -38,12 +42,17 @@ struct CropPlan {
     int64_t flagged() const;
     int64_t window_pixels() const;
     int64_t window_count() const;
+    // What re-rendering the plan costs, in pixels: window_pixels() + window_count() x window_cost
+    // (each render's start-up counted as window_cost pixels), the total the merging lowers.
+    int64_t cost_pixels() const;
 };
 
 // Windows covering every non-zero pixel of one mask (height x width, row-major): the flagged pixels
 // grouped by connectivity after dilating by the padding, each group's bounding box, grown to the
 // minimum size, then merged pairwise (overlapping windows always, others while the union adds at
-// most window_cost pixels, the cheapest merge first). Sorted by row, then column.
+// most window_cost pixels, the cheapest merge first: each such merge saves one start-up for fewer
+// extra pixels than it is worth, so cost_pixels never rises; a frame with more than 512 windows has
+// those in the same grid cell merged first, whatever they cost). Sorted by row, then column.
 std::vector<CropWindow> cover_mask(const std::vector<uint8_t>& mask, int64_t height, int64_t width,
                                    const CropOptions& options);
 

@@ -48,7 +48,13 @@ def test_members_mean_what_the_documentation_says(written):
         first, _, last = part.partition("-")
         listed += range(int(first), int(last or first) + 1)
     assert listed == frames
+    # What a farm reads per frame: the frame's window count and pixels, each window's index (the
+    # {window} of merge's file names), and the plan's cost with each start-up as window_cost pixels.
+    assert doc["cost_pixels"] == doc["window_pixels"] + doc["window_count"] * doc["window_cost"]
     for f in doc["frames"]:
+        assert f["window_count"] == len(f["windows"])
+        assert f["window_pixels"] == sum(w["width"] * w["height"] for w in f["windows"])
+        assert [w["index"] for w in f["windows"]] == list(range(len(f["windows"])))
         for w in f["windows"]:
             assert w["x"] + w["width"] <= W and w["y"] + w["height"] <= H
             # border: fractions of the frame, y up from the bottom (Blender's render border).

@@ -104,6 +104,87 @@ TEST(CropWindows, NearbyWindowsMergeWhenCheapOverlappingAlways) {
         }
 }
 
+// The render cost (window_cost): two windows merge when the pixels their union adds cost at most one
+// start-up (extra <= window_cost). Known answers below.
+TEST(CropWindows, RenderCostWeighsStartUpAgainstExtraPixels) {
+    const int64_t H = 40, W = 60;
+    auto m = blank(H, W);
+    set(m, W, 10, 10);
+    set(m, W, 16, 10);
+    set(m, W, 50, 35);
+    CropOptions o;
+    o.padding = 2;
+    o.min_size = 1;
+    const CropWindow left{8, 8, 5, 5}, right{14, 8, 5, 5}, far{48, 33, 5, 5}, pair{8, 8, 11, 5};
+    // Cost 0: today's behaviour, nothing that does not overlap merges.
+    o.window_cost = 0;
+    EXPECT_EQ(cover_mask(m, H, W, o), (std::vector<CropWindow>{left, right, far}));
+    // The nearby pair adds 5 pixels: a start-up worth 4 keeps them apart, one worth 5 merges them.
+    o.window_cost = 4;
+    EXPECT_EQ(cover_mask(m, H, W, o), (std::vector<CropWindow>{left, right, far}));
+    o.window_cost = 5;
+    EXPECT_EQ(cover_mask(m, H, W, o), (std::vector<CropWindow>{pair, far}));
+    // The far window: the union of {8,8,11,5} and {48,33,5,5} is {8,8,45,30} = 1350 pixels, 1270 more
+    // than the 55 + 25 the two cover; it stays apart below that cost and joins at it.
+    o.window_cost = 1269;
+    EXPECT_EQ(cover_mask(m, H, W, o), (std::vector<CropWindow>{pair, far}));
+    o.window_cost = 1270;
+    EXPECT_EQ(cover_mask(m, H, W, o), (std::vector<CropWindow>{CropWindow{8, 8, 45, 30}}));
+}
+
+// Cost 0 still merges windows whose union adds no pixel: grown to 4 x 4, the pixels at x 1 and 5
+// give {0,1,4,4} and {4,1,4,4}, side by side; at x 1 and 6 a 1 x 4 gap (4 pixels) stays at cost 0.
+TEST(CropWindows, RenderCostZeroMergesOnlyWhatCostsNothing) {
+    const int64_t H = 10, W = 12;
+    CropOptions o;
+    o.padding = 0;
+    o.min_size = 4;
+    o.window_cost = 0;
+    auto touching = blank(H, W);
+    set(touching, W, 1, 2);
+    set(touching, W, 5, 2);
+    EXPECT_EQ(cover_mask(touching, H, W, o), (std::vector<CropWindow>{CropWindow{0, 1, 8, 4}}));
+    auto gap = blank(H, W);
+    set(gap, W, 1, 2);
+    set(gap, W, 6, 2);
+    EXPECT_EQ(cover_mask(gap, H, W, o), (std::vector<CropWindow>{CropWindow{0, 1, 4, 4}, CropWindow{5, 1, 4, 4}}));
+    o.window_cost = 3;
+    EXPECT_EQ(cover_mask(gap, H, W, o).size(), 2u);
+    o.window_cost = 4;
+    EXPECT_EQ(cover_mask(gap, H, W, o), (std::vector<CropWindow>{CropWindow{0, 1, 9, 4}}));
+}
+
+// Each merge saves one start-up for at most as many pixels, so the plan's cost (pixels + windows x
+// cost) at a render cost is never above that of the unmerged windows (cost 0) counted at it.
+TEST(CropWindows, MergingNeverRaisesThePlansCost) {
+    const int64_t H = 48, W = 64;
+    uint32_t state = 12345;
+    auto next = [&state] { return state = state * 1664525u + 1013904223u; };
+    for (int trial = 0; trial < 20; ++trial) {
+        auto m = blank(H, W);
+        for (int k = 0; k < 12; ++k) set(m, W, (next() >> 8) % W, (next() >> 8) % H);
+        for (int64_t cost : {0, 3, 17, 64, 300, 5000}) {
+            CropOptions o;
+            o.padding = 1;
+            o.min_size = 2;
+            o.window_cost = 0;
+            const auto apart = cover_mask(m, H, W, o);
+            o.window_cost = cost;
+            const auto merged = cover_mask(m, H, W, o);
+            auto plan_cost = [cost](const std::vector<CropWindow>& ws) {
+                int64_t c = 0;
+                for (const auto& w : ws) c += w.area() + cost;
+                return c;
+            };
+            EXPECT_LE(plan_cost(merged), plan_cost(apart)) << "trial " << trial << " cost " << cost;
+            EXPECT_LE(merged.size(), apart.size());
+            for (int64_t y = 0; y < H; ++y)
+                for (int64_t x = 0; x < W; ++x)
+                    if (m[static_cast<size_t>(y * W + x)]) ASSERT_TRUE(covered(merged, x, y));
+        }
+    }
+}
+
 TEST(CropWindows, ManyScatteredPixelsStayCoveredAndFast) {
     const int64_t H = 300, W = 400;
     auto m = blank(H, W);
@@ -152,6 +233,19 @@ TEST(CropWindows, JsonRoundTrips) {
     const JsonValue& w = doc.find("frames")->array()[0].find("windows")->array()[0];
     const CropWindow& cw = plan.frames[0].windows[0];
     EXPECT_NEAR(w.find("border")->array()[1].number(), 1.0 - (cw.y + cw.height) / 30.0, 1e-9);
+    // What a farm reads per frame and window: the window's index ({window} of merge's file names),
+    // the frame's window count and pixels, and the plan's cost in pixels.
+    const JsonValue& f2 = doc.find("frames")->array()[1];
+    const auto& ws = f2.find("windows")->array();
+    ASSERT_EQ(ws.size(), plan.frames[1].windows.size());
+    int64_t pixels = 0;
+    for (size_t k = 0; k < ws.size(); ++k) {
+        EXPECT_EQ(ws[k].find("index")->number(), static_cast<double>(k));
+        pixels += plan.frames[1].windows[k].area();
+    }
+    EXPECT_EQ(f2.find("window_count")->number(), static_cast<double>(ws.size()));
+    EXPECT_EQ(f2.find("window_pixels")->number(), static_cast<double>(pixels));
+    EXPECT_EQ(doc.find("cost_pixels")->number(), static_cast<double>(plan.window_pixels() + 64 * plan.window_count()));
 }
 
 TEST(CropWindows, MalformedOrOutOfBoundsJsonIsRefusedWithTheReason) {
