@@ -7,6 +7,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cerrno>
 #include <cstring>
 #include <fstream>
@@ -114,9 +115,65 @@ std::vector<std::string> split_list(const std::string& text) {
     return out;
 }
 
-std::vector<Selected> select_channels(const FileLayout& layout, const std::string& request, const std::string& path) {
+// The pass a channel belongs to: the last part of its layer ("Diffuse Color" of
+// "ViewLayer.Diffuse Color.R"), or the channel's own name when it has no layer ("Z").
+std::string pass_of(const std::string& channel) {
+    const size_t dot = channel.rfind('.');
+    if (dot == std::string::npos) return channel;
+    const std::string layer = channel.substr(0, dot);
+    const size_t before = layer.rfind('.');
+    return before == std::string::npos ? layer : layer.substr(before + 1);
+}
+
+bool starts_with(const std::string& s, const std::string& prefix) { return s.compare(0, prefix.size(), prefix) == 0; }
+bool ends_with(const std::string& s, const std::string& suffix) {
+    return s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
+}
+
+}  // namespace
+
+// Data and auxiliary passes: denoising them as light would corrupt them (normals, depth, IDs,
+// colours that multiply the light), and alpha is coverage, not light.
+// Names compared without case: renderers and compositors spell them "albedo" as well as "Albedo".
+bool is_light_channel(const std::string& channel) {
+    static const char* data_passes[] = {"normal", "albedo", "depth",    "z", "vector", "alpha", "mist",
+                                        "indexob", "indexma", "uv", "position", "n", "p"};
+    std::string lower = channel;
+    for (char& c : lower) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    const std::string pass = pass_of(lower);
+    for (const char* d : data_passes)
+        if (pass == d) return false;
+    if (ends_with(pass, "color") || starts_with(pass, "denoising") || starts_with(pass, "crypto")) return false;
+    const size_t dot = lower.rfind('.');
+    return (dot == std::string::npos ? lower : lower.substr(dot + 1)) != "a";
+}
+
+namespace {
+
+// The default selection: a file without layers (every channel name without a dot, as a plain
+// RGB(A) file) is read whole, as before; a file with layers gives its light passes only.
+std::vector<Selected> default_channels(const FileLayout& layout, const std::string& path) {
     std::vector<Selected> out;
-    if (request.empty()) {
+    bool layered = false;
+    for (const auto& ch : layout.channels) layered = layered || ch.name.find('.') != std::string::npos;
+    for (const auto& ch : layout.channels)
+        if (!layered || is_light_channel(ch.name)) out.push_back({ch, ch.name});
+    if (layout.channels.empty()) throw Error(Status::Io, "cannot read '" + path + "': the file has no channels");
+    if (out.empty()) {
+        std::string available;
+        for (const auto& ch : layout.channels) available += (available.empty() ? "" : ", ") + ch.name;
+        throw Error(Status::NotFound, "'" + path + "' has no light pass to read by default (channels: " + available +
+                                          "): name the channels or layers to read, or * for all");
+    }
+    return out;
+}
+
+// One layer alone is named by its channels' suffixes (R, G, B), as a file of its own would be;
+// several names keep the file's full names, so that the layers stay apart in the output.
+std::vector<Selected> select_channels(const FileLayout& layout, const std::string& request, const std::string& path) {
+    if (request.empty()) return default_channels(layout, path);
+    std::vector<Selected> out;
+    if (request == "*") {
         for (const auto& ch : layout.channels) out.push_back({ch, ch.name});
         if (out.empty()) throw Error(Status::Io, "cannot read '" + path + "': the file has no channels");
         return out;
@@ -124,8 +181,8 @@ std::vector<Selected> select_channels(const FileLayout& layout, const std::strin
     const std::vector<std::string> items = split_list(request);
     if (items.empty())
         throw Error(Status::InvalidArgument, "the channel list '" + request +
-                                                 "' names no channel or layer (give names such as R,G,B, or leave it "
-                                                 "empty for every channel)");
+                                                 "' names no channel or layer (give names such as R,G,B, * for every "
+                                                 "channel, or leave it empty for the light passes)");
     for (const std::string& item : items) {
         bool found = false;
         for (const auto& ch : layout.channels)
@@ -138,7 +195,7 @@ std::vector<Selected> select_channels(const FileLayout& layout, const std::strin
         const std::string prefix = item + ".";
         for (const auto& ch : layout.channels)
             if (ch.name.compare(0, prefix.size(), prefix) == 0 && ch.name.size() > prefix.size()) {
-                out.push_back({ch, ch.name.substr(prefix.size())});
+                out.push_back({ch, items.size() == 1 ? ch.name.substr(prefix.size()) : ch.name});
                 found = true;
             }
         if (!found) {
@@ -148,6 +205,11 @@ std::vector<Selected> select_channels(const FileLayout& layout, const std::strin
                         "no channel or layer '" + item + "' in '" + path + "' (channels: " + available + ")");
         }
     }
+    for (size_t i = 0; i < out.size(); ++i)
+        for (size_t j = 0; j < i; ++j)
+            if (out[i].source.subimage == out[j].source.subimage && out[i].source.index == out[j].source.index)
+                throw Error(Status::InvalidArgument, "the channel list '" + request + "' takes channel '" +
+                                                         out[i].source.name + "' of '" + path + "' twice");
     return out;
 }
 
@@ -315,9 +377,10 @@ void check_frame_layout(const FileLayout& layout, const ReadPlan& plan, const st
     for (const ChannelRun& run : plan.runs) {
         const PixelWindow display = display_window(layout.specs[static_cast<size_t>(run.subimage)]);
         if (display != plan.display)
-            throw Error(Status::InvalidArgument, "'" + path + "' part " + std::to_string(run.subimage) +
-                                                     " has the display window " + window_text(display) +
-                                                     ", the first frame " + window_text(plan.display));
+            throw Error(Status::InvalidArgument,
+                        "'" + path + "'" + (layout.specs.size() > 1 ? " part " + std::to_string(run.subimage) : "") +
+                            " is " + window_text(display) + " (its display window), the first frame is " +
+                            window_text(plan.display) + ": the frames of a sequence share one display window");
     }
 }
 
@@ -421,6 +484,13 @@ void read_frame(const std::string& path, const ReadPlan& plan, size_t f, float* 
 }
 
 }  // namespace
+
+std::vector<std::string> select_file_channels(const std::string& path, const std::string& channels) {
+    auto in = open_image(path);
+    std::vector<std::string> out;
+    for (const Selected& sel : select_channels(read_layout(*in, path), channels, path)) out.push_back(sel.source.name);
+    return out;
+}
 
 std::unique_ptr<Sequence> read_sequence(const std::string& pattern_text, const ReadOptions& options) {
     const FramePattern pattern(pattern_text);
