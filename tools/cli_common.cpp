@@ -31,8 +31,11 @@ const std::set<std::string> kOutputOptions = {"compression", "out-colorspace"};
 
 const char* const kInputHelp =
     "input:\n"
-    "  --channels LIST         channels and/or layers, e.g. R,G,B or \"ViewLayer.Diffuse Indirect\"\n"
-    "                          (default: every channel of every part)\n"
+    "  --channels LIST         channels and/or layers, e.g. R,G,B or \"ViewLayer.Diffuse Indirect\";\n"
+    "                          several layers keep their full names; * = every channel of every part\n"
+    "                          (default: a file without layers whole, else its light passes only:\n"
+    "                          no Normal, Albedo, *Color, Depth/Z, Vector, Alpha/A, Denoising*, ...;\n"
+    "                          'statfilter info' shows what the default takes)\n"
     "  --frames SPEC           frames to use, e.g. 1-48 or 1-10,12 (default: all on disk, no gaps)\n"
     "  --ocio CONFIG           OpenColorIO config (default: $OCIO)\n"
     "  --in-colorspace NAME    colour space of the input files ...\n"

@@ -201,7 +201,10 @@ SF_API sf_status sf_channel_selection(const char* path, const char* channels, ch
 
 /* A rectangle of pixels in a file's coordinates. */
 typedef struct sf_window {
-    int64_t x, y, width, height;
+    int64_t x;
+    int64_t y;
+    int64_t width;
+    int64_t height;
 } sf_window;
 
 /* Where frame index `frame` came from. data: the window its pixels fill (the sequence's width x
