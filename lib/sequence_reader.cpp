@@ -523,6 +523,27 @@ std::unique_ptr<Sequence> read_sequence(const std::string& pattern_text, const R
 namespace statfilter {
 namespace {
 
+// Rows [y0, y1) of a run's part (file coordinates) into dst. read_scanlines does not read tiled
+// parts, so those are decoded by whole rows of tiles and the rows asked for copied out.
+bool read_part_rows(OIIO::ImageInput& in, const OIIO::ImageSpec& spec, const ChannelRun& run, int y0, int y1,
+                    float* dst, OIIO::stride_t pixel, OIIO::stride_t row) {
+    if (spec.tile_width <= 0)
+        return in.read_scanlines(run.subimage, 0, y0, y1, 0, run.first, run.first + run.count, OIIO::TypeDesc::FLOAT,
+                                 dst, pixel, row);
+    const int th = spec.tile_height;
+    const int ty0 = spec.y + (y0 - spec.y) / th * th;
+    const int ty1 = std::min(spec.y + spec.height, spec.y + (y1 - spec.y + th - 1) / th * th);
+    std::vector<float> tiles(static_cast<size_t>(ty1 - ty0) * static_cast<size_t>(spec.width) * run.count);
+    if (!in.read_tiles(run.subimage, 0, spec.x, spec.x + spec.width, ty0, ty1, spec.z, spec.z + std::max(1, spec.depth),
+                       run.first, run.first + run.count, OIIO::TypeDesc::FLOAT, tiles.data()))
+        return false;
+    for (int y = y0; y < y1; ++y)
+        for (int x = 0; x < spec.width; ++x)
+            std::copy_n(&tiles[(static_cast<size_t>(y - ty0) * spec.width + x) * run.count], run.count,
+                        reinterpret_cast<float*>(reinterpret_cast<char*>(dst) + (y - y0) * row + x * pixel));
+    return true;
+}
+
 class ExrFrameSource final : public FrameSource {
 public:
     ExrFrameSource(const std::string& pattern_text, const ReadOptions& options)
@@ -544,7 +565,7 @@ public:
         const auto frame = static_cast<size_t>(f);
         const std::string path = pattern_.format(plan_.frames[frame]);
         auto in = open_image(path);
-        reopen_layout(*in, plan_, frame, path);
+        const FileLayout layout = reopen_layout(*in, plan_, frame, path);
         const auto pixel = static_cast<OIIO::stride_t>(shape_.channels * sizeof(float));
         bool zeroed = false;
         for (size_t r = 0; r < plan_.runs.size(); ++r) {  // all channels of a part in one decode of each chunk
@@ -559,8 +580,8 @@ public:
             if (a >= b) continue;
             float* at = dst + ((a - y0) * shape_.width + (w.x - plan_.window.x)) * shape_.channels + run.target;
             const int file_y = static_cast<int>(plan_.window.y + a);
-            if (!in->read_scanlines(run.subimage, 0, file_y, file_y + static_cast<int>(b - a), 0, run.first,
-                                    run.first + run.count, OIIO::TypeDesc::FLOAT, at, pixel, pixel * shape_.width)) {
+            if (!read_part_rows(*in, layout.specs[static_cast<size_t>(run.subimage)], run, file_y,
+                                file_y + static_cast<int>(b - a), at, pixel, pixel * shape_.width)) {
                 std::string why = in->geterror();
                 throw Error(Status::Io, "cannot read '" + path + "': " + (why.empty() ? "read failed" : why));
             }

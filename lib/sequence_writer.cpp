@@ -122,6 +122,7 @@ std::string write_temporary(const std::string& path, const float* pixels, const 
     for (const auto& p : attributes.metadata()[f]) spec.attribute(p.name().string(), p.type(), p.data());
     for (const auto& [name, value] : extra) spec.attribute(name, value);
     spec.attribute("compression", options.compression);
+    if (options.tile_size > 0) spec.tile_width = spec.tile_height = options.tile_size;
 
     const std::string tmp = temporary_name(path);
     auto out = OIIO::ImageOutput::create(tmp);
@@ -155,6 +156,9 @@ public:
                                                      "' has no frame token (#, @ or %0Nd) but the sequence has " +
                                                      std::to_string(frames) + " frames");
         check_compression(options.compression);
+        if (options.tile_size < 0 || options.tile_size > 65536)
+            throw Error(Status::InvalidArgument, "EXR tile size " + std::to_string(options.tile_size) +
+                                                     " is out of range (0 = scanlines, or 1 to 65536 pixels)");
         std::vector<int64_t> numbers = attributes.frame_numbers();
         std::sort(numbers.begin(), numbers.end());
         if (std::adjacent_find(numbers.begin(), numbers.end()) != numbers.end())

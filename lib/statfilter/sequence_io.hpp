@@ -34,6 +34,7 @@ struct WriteOptions {
     std::string compression = "zip";
     ColorConversion color;
     bool clamp_half = false;  // false: a finite value beyond half's range is an error
+    int tile_size = 0;        // 0 = scanlines; N = N x N tiles
     Progress progress;
 };
 

@@ -98,7 +98,8 @@ class sf_write_options(Structure):
                 ("colorspace_out", c_char_p),
                 ("half_overflow", c_int),
                 ("progress", sf_progress_callback),
-                ("progress_user", c_void_p)]
+                ("progress_user", c_void_p),
+                ("tile_size", c_int)]
 
 
 class sf_param_info(Structure):

@@ -63,3 +63,12 @@ def test_several_layers_keep_their_names_and_the_default_leaves_data_passes(tmp_
     assert sorted(channel_list(tmp_path / "two.0001.exr")) == sorted(names[:6])
     run("denoise", tmp_path / "aov.0001.exr", tmp_path / "default.0001.exr", "--method", "copy", "-q")
     assert sorted(channel_list(tmp_path / "default.0001.exr")) == sorted(names[:6])
+
+
+def test_tiled_output_on_request(tmp_path):
+    oiiotool("--create", "40x30", "3", "--fill:color=0.5,0.5,0.5", "40x30", "-o", tmp_path / "in.0001.exr")
+    run("denoise", tmp_path / "in.0001.exr", tmp_path / "tiled.0001.exr", "--method", "copy", "--tiled", "16", "-q")
+    assert "tile size: 16 x 16" in header(tmp_path / "tiled.0001.exr")
+    bad = run("denoise", tmp_path / "in.0001.exr", tmp_path / "bad.0001.exr", "--method", "copy", "--tiled", "x",
+              check_rc=2)
+    assert "--tiled" in bad.stderr

@@ -246,3 +246,21 @@ TEST(DeepExr, IsRefusedNamingTheFile) {
         EXPECT_NE(message.find("deep"), std::string::npos) << message;
     }
 }
+
+TEST_F(Region, TiledOnRequestAndReadBackStreamed) {
+    auto seq = read_sequence(dir.file("region.####.exr"), ReadOptions());
+    WriteOptions tiled = float_options();
+    tiled.tile_size = 32;
+    write_sequence(*seq, dir.file("out/tiled.####.exr"), tiled);
+    const ExrImage out = read_exr(dir.file("out/tiled.0001.exr"));
+    EXPECT_EQ(out.spec.tile_width, 32);
+    EXPECT_EQ(out.spec.tile_height, 32);
+    expect_region(dir.file("out/tiled.0001.exr"), 1);
+    // A tiled input streams like a scanline one.
+    stream_copy(dir.file("out/tiled.####.exr"), dir.file("out/again.####.exr"));
+    expect_region(dir.file("out/again.0002.exr"), 2);
+    EXPECT_EQ(read_exr(dir.file("out/again.0002.exr")).spec.tile_width, 0);
+    tiled.tile_size = -1;
+    EXPECT_EQ(error_of([&] { write_sequence(*seq, dir.file("out/bad.####.exr"), tiled); }).first,
+              Status::InvalidArgument);
+}

@@ -227,6 +227,7 @@ typedef struct sf_write_options {
                                     1 = clamp to +-65504 */
     sf_progress_callback progress;
     void* progress_user;
+    int tile_size;               /* 0 = scanline EXR (default); N = N x N tiles (1..65536) */
 } sf_write_options;
 
 SF_API void sf_write_options_init(sf_write_options* options);
