@@ -6,6 +6,7 @@
 
 #include "api_guard.hpp"
 #include "options.hpp"
+#include "statfilter/frame_metadata.hpp"
 #include "statfilter/frame_pattern.hpp"
 #include "statfilter/sequence_io.hpp"
 
@@ -66,6 +67,47 @@ sf_status sf_sequence_read(const char* pattern, const sf_read_options* options, 
         auto* handle = new sf_sequence_s;
         handle->sequence = std::move(seq);
         *out = handle;
+    });
+}
+
+sf_status sf_channel_selection(const char* path, const char* channels, char* buffer, size_t capacity,
+                               size_t* needed) {
+    return guarded([&] {
+        std::string list;
+        for (const std::string& name : select_file_channels(require_string(path, "path"), channels ? channels : ""))
+            list += (list.empty() ? "" : ",") + name;
+        if (needed) *needed = list.size() + 1;
+        if (!buffer) {
+            if (!needed) throw Error(Status::InvalidArgument, "argument 'buffer' and 'needed' are both NULL");
+            return;
+        }
+        if (capacity < list.size() + 1)
+            throw Error(Status::InvalidArgument, "buffer of " + std::to_string(capacity) + " bytes is too small (" +
+                                                     std::to_string(list.size() + 1) + " needed)");
+        std::memcpy(buffer, list.c_str(), list.size() + 1);
+    });
+}
+
+sf_status sf_sequence_frame_windows(sf_sequence sequence, int64_t frame, sf_window* data, sf_window* display,
+                                    sf_window* file_data) {
+    return guarded([&] {
+        const Sequence& seq = require_sequence(sequence, "sequence");
+        const Shape& s = seq.shape();
+        if (frame < 0 || frame >= s.frames)
+            throw Error(Status::InvalidArgument, "frame index " + std::to_string(frame) + " is outside 0.." +
+                                                     std::to_string(s.frames - 1));
+        const FrameMetadata& md = seq.metadata()[static_cast<size_t>(frame)];
+        // As the writer places the frame: its read window while the size still matches, else the origin.
+        const bool placed = !md.window.empty() && md.window.width == s.width && md.window.height == s.height;
+        const PixelWindow own = placed ? md.window : PixelWindow{0, 0, s.width, s.height};
+        const PixelWindow shown = placed && !md.display.empty() ? md.display : own;
+        const PixelWindow filled = placed && !md.file_data.empty() ? md.file_data : own;
+        auto put = [](sf_window* out, const PixelWindow& w) {
+            if (out) *out = sf_window{w.x, w.y, w.width, w.height};
+        };
+        put(data, own);
+        put(display, shown);
+        put(file_data, filled);
     });
 }
 

@@ -1,10 +1,13 @@
-// Reads a frame sequence: resolves the frames and channels once from the first file, then reads
-// every frame straight into the sequence's memory, checking each file has the same layout.
+// Reads a frame sequence: resolves the frames and channels once from the first file and the window
+// the frames are read on from every frame's header, then reads every frame straight into the
+// sequence's memory (or, streamed, bands of it), checking each file is still as planned.
 #include <OpenImageIO/imageio.h>
 
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <algorithm>
+#include <cctype>
 #include <cerrno>
 #include <cstring>
 #include <fstream>
@@ -34,10 +37,25 @@ struct Selected {
 };
 
 struct FileLayout {
-    int width = 0, height = 0;
     std::vector<FileChannel> channels;
     std::vector<OIIO::ImageSpec> specs;  // one per subimage
 };
+
+PixelWindow data_window(const OIIO::ImageSpec& spec) { return {spec.x, spec.y, spec.width, spec.height}; }
+PixelWindow display_window(const OIIO::ImageSpec& spec) {
+    return {spec.full_x, spec.full_y, spec.full_width, spec.full_height};
+}
+
+std::string window_text(const PixelWindow& w) {
+    return std::to_string(w.width) + " x " + std::to_string(w.height) + " at (" + std::to_string(w.x) + ", " +
+           std::to_string(w.y) + ")";
+}
+
+PixelWindow bounding_box(const PixelWindow& a, const PixelWindow& b) {
+    const int64_t x0 = std::min(a.x, b.x), y0 = std::min(a.y, b.y);
+    const int64_t x1 = std::max(a.x + a.width, b.x + b.width), y1 = std::max(a.y + a.height, b.y + b.height);
+    return {x0, y0, x1 - x0, y1 - y0};
+}
 
 const char* file_kind(mode_t mode) {
     if (S_ISDIR(mode)) return "a directory";
@@ -75,10 +93,6 @@ FileLayout read_layout(OIIO::ImageInput& in, const std::string& path) {
     FileLayout layout;
     for (int s = 0; in.seek_subimage(s, 0); ++s) {
         const OIIO::ImageSpec& spec = in.spec();
-        if (s == 0) {
-            layout.width = spec.width;
-            layout.height = spec.height;
-        }
         for (int c = 0; c < spec.nchannels; ++c)
             layout.channels.push_back({s, c, spec.channel_name(c)});
         layout.specs.push_back(spec);
@@ -101,9 +115,65 @@ std::vector<std::string> split_list(const std::string& text) {
     return out;
 }
 
-std::vector<Selected> select_channels(const FileLayout& layout, const std::string& request, const std::string& path) {
+// The pass a channel belongs to: the last part of its layer ("Diffuse Color" of
+// "ViewLayer.Diffuse Color.R"), or the channel's own name when it has no layer ("Z").
+std::string pass_of(const std::string& channel) {
+    const size_t dot = channel.rfind('.');
+    if (dot == std::string::npos) return channel;
+    const std::string layer = channel.substr(0, dot);
+    const size_t before = layer.rfind('.');
+    return before == std::string::npos ? layer : layer.substr(before + 1);
+}
+
+bool starts_with(const std::string& s, const std::string& prefix) { return s.compare(0, prefix.size(), prefix) == 0; }
+bool ends_with(const std::string& s, const std::string& suffix) {
+    return s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
+}
+
+}  // namespace
+
+// Data and auxiliary passes: denoising them as light would corrupt them (normals, depth, IDs,
+// colours that multiply the light), and alpha is coverage, not light.
+// Names compared without case: renderers and compositors spell them "albedo" as well as "Albedo".
+bool is_light_channel(const std::string& channel) {
+    static const char* data_passes[] = {"normal", "albedo", "depth",    "z", "vector", "alpha", "mist",
+                                        "indexob", "indexma", "uv", "position", "n", "p"};
+    std::string lower = channel;
+    for (char& c : lower) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    const std::string pass = pass_of(lower);
+    for (const char* d : data_passes)
+        if (pass == d) return false;
+    if (ends_with(pass, "color") || starts_with(pass, "denoising") || starts_with(pass, "crypto")) return false;
+    const size_t dot = lower.rfind('.');
+    return (dot == std::string::npos ? lower : lower.substr(dot + 1)) != "a";
+}
+
+namespace {
+
+// The default selection: a file without layers (every channel name without a dot, as a plain
+// RGB(A) file) is read whole, as before; a file with layers gives its light passes only.
+std::vector<Selected> default_channels(const FileLayout& layout, const std::string& path) {
     std::vector<Selected> out;
-    if (request.empty()) {
+    bool layered = false;
+    for (const auto& ch : layout.channels) layered = layered || ch.name.find('.') != std::string::npos;
+    for (const auto& ch : layout.channels)
+        if (!layered || is_light_channel(ch.name)) out.push_back({ch, ch.name});
+    if (layout.channels.empty()) throw Error(Status::Io, "cannot read '" + path + "': the file has no channels");
+    if (out.empty()) {
+        std::string available;
+        for (const auto& ch : layout.channels) available += (available.empty() ? "" : ", ") + ch.name;
+        throw Error(Status::NotFound, "'" + path + "' has no light pass to read by default (channels: " + available +
+                                          "): name the channels or layers to read, or * for all");
+    }
+    return out;
+}
+
+// One layer alone is named by its channels' suffixes (R, G, B), as a file of its own would be;
+// several names keep the file's full names, so that the layers stay apart in the output.
+std::vector<Selected> select_channels(const FileLayout& layout, const std::string& request, const std::string& path) {
+    if (request.empty()) return default_channels(layout, path);
+    std::vector<Selected> out;
+    if (request == "*") {
         for (const auto& ch : layout.channels) out.push_back({ch, ch.name});
         if (out.empty()) throw Error(Status::Io, "cannot read '" + path + "': the file has no channels");
         return out;
@@ -111,8 +181,8 @@ std::vector<Selected> select_channels(const FileLayout& layout, const std::strin
     const std::vector<std::string> items = split_list(request);
     if (items.empty())
         throw Error(Status::InvalidArgument, "the channel list '" + request +
-                                                 "' names no channel or layer (give names such as R,G,B, or leave it "
-                                                 "empty for every channel)");
+                                                 "' names no channel or layer (give names such as R,G,B, * for every "
+                                                 "channel, or leave it empty for the light passes)");
     for (const std::string& item : items) {
         bool found = false;
         for (const auto& ch : layout.channels)
@@ -125,7 +195,7 @@ std::vector<Selected> select_channels(const FileLayout& layout, const std::strin
         const std::string prefix = item + ".";
         for (const auto& ch : layout.channels)
             if (ch.name.compare(0, prefix.size(), prefix) == 0 && ch.name.size() > prefix.size()) {
-                out.push_back({ch, ch.name.substr(prefix.size())});
+                out.push_back({ch, items.size() == 1 ? ch.name.substr(prefix.size()) : ch.name});
                 found = true;
             }
         if (!found) {
@@ -135,6 +205,11 @@ std::vector<Selected> select_channels(const FileLayout& layout, const std::strin
                         "no channel or layer '" + item + "' in '" + path + "' (channels: " + available + ")");
         }
     }
+    for (size_t i = 0; i < out.size(); ++i)
+        for (size_t j = 0; j < i; ++j)
+            if (out[i].source.subimage == out[j].source.subimage && out[i].source.index == out[j].source.index)
+                throw Error(Status::InvalidArgument, "the channel list '" + request + "' takes channel '" +
+                                                         out[i].source.name + "' of '" + path + "' twice");
     return out;
 }
 
@@ -216,93 +291,25 @@ void check_fits_in_memory(const Shape& shape, const std::string& pattern) {
                         " of memory available: read fewer frames (--frames) or channels");
 }
 
-FrameMetadata frame_metadata(const OIIO::ImageSpec& spec) {
+// Format bookkeeping that the writer sets itself, and the part's name.
+bool bookkeeping(const std::string& name) {
+    return name.rfind("oiio:", 0) == 0 || name == "openexr:chunkCount" || name == "compression" || name == "name";
+}
+
+// Part 0's attributes (Blender and most renderers put the camera, frame and render statistics
+// there), then those of the parts read that part 0 lacks.
+FrameMetadata frame_metadata(const FileLayout& layout, const std::vector<int>& parts) {
     FrameMetadata out;
-    for (const auto& p : spec.extra_attribs) {
-        const std::string name = p.name().string();
-        // Format bookkeeping that the writer sets itself.
-        if (name.rfind("oiio:", 0) == 0 || name == "openexr:chunkCount" || name == "compression") continue;
-        out.push_back(p);
-    }
+    auto add = [&out](const OIIO::ImageSpec& spec) {
+        for (const auto& p : spec.extra_attribs) {
+            const std::string name = p.name().string();
+            if (!bookkeeping(name) && !out.contains(name)) out.push_back(p);
+        }
+    };
+    add(layout.specs.front());
+    for (int s : parts) add(layout.specs[static_cast<size_t>(s)]);
     return out;
 }
-
-// Every frame must hold the first frame's selected channels at the first frame's size.
-void check_frame_layout(const FileLayout& layout, const std::vector<Selected>& selection, const Shape& shape,
-                        const std::string& path) {
-    for (const Selected& sel : selection) {
-        const auto s = static_cast<size_t>(sel.source.subimage);
-        if (s >= layout.specs.size() || layout.specs[s].nchannels <= sel.source.index ||
-            layout.specs[s].channel_name(sel.source.index) != sel.source.name)
-            throw Error(Status::NotFound, "'" + path + "' lacks channel '" + sel.source.name + "' found in the first frame");
-        const OIIO::ImageSpec& spec = layout.specs[s];
-        if (spec.width != shape.width || spec.height != shape.height)
-            throw Error(Status::InvalidArgument, "'" + path + "' is " + std::to_string(spec.width) + " x " +
-                                                     std::to_string(spec.height) + ", the first frame is " +
-                                                     std::to_string(shape.width) + " x " + std::to_string(shape.height));
-    }
-}
-
-void read_frame(const std::string& path, const std::vector<Selected>& selection, Sequence& seq, int64_t f) {
-    auto in = open_image(path);
-    const FileLayout layout = read_layout(*in, path);
-    check_frame_layout(layout, selection, seq.shape(), path);
-    const Strides& st = seq.strides();
-    for (size_t c = 0; c < selection.size(); ++c) {
-        const FileChannel& src = selection[c].source;
-        float* dst = &seq.at(f, 0, 0, static_cast<int64_t>(c));
-        if (!in->read_image(src.subimage, 0, src.index, src.index + 1, OIIO::TypeDesc::FLOAT, dst, st.pixel, st.row,
-                            OIIO::AutoStride)) {
-            std::string why = in->geterror();
-            throw Error(Status::Io, "cannot read '" + path + "': " + (why.empty() ? "read failed" : why));
-        }
-    }
-    seq.metadata()[f] = frame_metadata(layout.specs[selection.front().source.subimage]);
-}
-
-}  // namespace
-
-std::unique_ptr<Sequence> read_sequence(const std::string& pattern_text, const ReadOptions& options) {
-    const FramePattern pattern(pattern_text);
-    const std::vector<int64_t> frames = resolve_frames(pattern, options.frames);
-    if (!options.frames.empty()) check_frames_exist(pattern, frames);
-
-    const std::string first_path = pattern.format(frames.front());
-    FileLayout first;
-    {
-        auto in = open_image(first_path);
-        first = read_layout(*in, first_path);
-    }
-    const std::vector<Selected> selection = select_channels(first, options.channels, first_path);
-    Shape shape;
-    shape.frames = static_cast<int64_t>(frames.size());
-    shape.width = first.specs[selection.front().source.subimage].width;
-    shape.height = first.specs[selection.front().source.subimage].height;
-    shape.channels = static_cast<int64_t>(selection.size());
-    validate_shape(shape);
-    check_fits_in_memory(shape, pattern_text);
-    check_color_conversion(options.color, shape.channels);
-
-    auto seq = std::make_unique<Sequence>(shape);
-    for (size_t c = 0; c < selection.size(); ++c) seq->channel_names()[c] = selection[c].name;
-    seq->source() = SequenceSource{pattern_text, options.channels};
-    for (int64_t f = 0; f < shape.frames; ++f) {
-        options.progress.report(static_cast<double>(f) / shape.frames, "read");
-        seq->frame_numbers()[f] = frames[f];
-        read_frame(pattern.format(frames[f]), selection, *seq, f);
-        if (options.color.active())
-            convert_colors(&seq->at(f, 0, 0, 0), shape.width, shape.height, shape.channels, options.color);
-    }
-    options.progress.report(1.0, "read");
-    return seq;
-}
-
-}  // namespace statfilter
-
-// ---- a sequence opened for reading in pieces (bands of scanlines, whole frames) ----------------
-
-namespace statfilter {
-namespace {
 
 // Selected channels that sit side by side in one part of the file, read with one call.
 struct ChannelRun {
@@ -323,53 +330,258 @@ std::vector<ChannelRun> channel_runs(const std::vector<Selected>& selection) {
     return runs;
 }
 
+std::vector<int> parts_of(const std::vector<ChannelRun>& runs) {
+    std::vector<int> parts;
+    for (const ChannelRun& run : runs)
+        if (std::find(parts.begin(), parts.end(), run.subimage) == parts.end()) parts.push_back(run.subimage);
+    return parts;
+}
+
+// What a sequence is read as, from every frame's header: the channels chosen in the first frame,
+// each frame's data window of each run's part, and the one window all frames are read on: their
+// common data window, or when the data windows differ (auto-cropped renders, parts of different
+// sizes) the box holding the display window and them all, the pixels outside a frame's own data
+// window being 0.
+struct ReadPlan {
+    std::vector<int64_t> frames;
+    std::vector<Selected> selection;
+    std::vector<ChannelRun> runs;
+    PixelWindow window, display;
+    std::vector<std::vector<PixelWindow>> part_windows;  // [frame][run]
+    std::vector<FrameMetadata> metadata;                  // [frame]
+
+    Shape shape() const {
+        return Shape{static_cast<int64_t>(frames.size()), window.height, window.width,
+                     static_cast<int64_t>(selection.size())};
+    }
+};
+
+// Deep parts hold several samples per pixel: refuse them before reading.
+void check_flat(const FileLayout& layout, const std::vector<ChannelRun>& runs, const std::string& path) {
+    for (const ChannelRun& run : runs)
+        if (layout.specs[static_cast<size_t>(run.subimage)].deep)
+            throw Error(Status::Unsupported, "cannot read '" + path + "': part " + std::to_string(run.subimage) +
+                                                 " is a deep image (several samples per pixel), which statfilter "
+                                                 "does not filter: flatten it first (e.g. oiiotool --flatten)");
+}
+
+// Every frame must hold the first frame's selected channels, flat, in one display window.
+void check_frame_layout(const FileLayout& layout, const ReadPlan& plan, const std::string& path) {
+    for (const Selected& sel : plan.selection) {
+        const auto s = static_cast<size_t>(sel.source.subimage);
+        if (s >= layout.specs.size() || layout.specs[s].nchannels <= sel.source.index ||
+            layout.specs[s].channel_name(sel.source.index) != sel.source.name)
+            throw Error(Status::NotFound, "'" + path + "' lacks channel '" + sel.source.name + "' found in the first frame");
+    }
+    check_flat(layout, plan.runs, path);
+    for (const ChannelRun& run : plan.runs) {
+        const PixelWindow display = display_window(layout.specs[static_cast<size_t>(run.subimage)]);
+        if (display != plan.display)
+            throw Error(Status::InvalidArgument,
+                        "'" + path + "'" + (layout.specs.size() > 1 ? " part " + std::to_string(run.subimage) : "") +
+                            " is " + window_text(display) + " (its display window), the first frame is " +
+                            window_text(plan.display) + ": the frames of a sequence share one display window");
+    }
+}
+
+// Adds frame f's header to the plan.
+void add_frame(ReadPlan& plan, const FileLayout& layout, const std::string& path) {
+    check_frame_layout(layout, plan, path);
+    std::vector<PixelWindow> windows;
+    PixelWindow own;
+    for (const ChannelRun& run : plan.runs) {
+        windows.push_back(data_window(layout.specs[static_cast<size_t>(run.subimage)]));
+        own = own.empty() ? windows.back() : bounding_box(own, windows.back());
+    }
+    plan.part_windows.push_back(windows);
+    plan.metadata.push_back(frame_metadata(layout, parts_of(plan.runs)));
+    plan.metadata.back().file_data = own;
+}
+
+// The window all frames are read on, then each frame's windows as the writer will use them.
+void finish_plan(ReadPlan& plan) {
+    const PixelWindow first = plan.part_windows.front().front();
+    bool common = true;
+    PixelWindow box = plan.display;
+    for (const auto& frame : plan.part_windows)
+        for (const PixelWindow& w : frame) {
+            common = common && w == first;
+            box = bounding_box(box, w);
+        }
+    plan.window = common ? first : box;
+    for (FrameMetadata& md : plan.metadata) {
+        md.window = plan.window;
+        md.display = plan.display;
+        if (md.file_data == plan.window) md.file_data = PixelWindow();
+    }
+}
+
+// The plan from the first frame alone (its own data window): enough to check the size early.
+ReadPlan first_frame_plan(const FramePattern& pattern, const ReadOptions& options) {
+    ReadPlan plan;
+    plan.frames = resolve_frames(pattern, options.frames);
+    const std::string path = pattern.format(plan.frames.front());
+    auto in = open_image(path);
+    const FileLayout layout = read_layout(*in, path);
+    plan.selection = select_channels(layout, options.channels, path);
+    plan.runs = channel_runs(plan.selection);
+    check_flat(layout, plan.runs, path);
+    const OIIO::ImageSpec& spec = layout.specs[static_cast<size_t>(plan.runs.front().subimage)];
+    plan.window = data_window(spec);
+    plan.display = display_window(spec);
+    return plan;
+}
+
+// Reads every frame's header into the plan; a missing or different frame fails here, before any pixel.
+void read_headers(ReadPlan& plan, const FramePattern& pattern, const Progress& progress) {
+    for (size_t f = 0; f < plan.frames.size(); ++f) {
+        progress.report(static_cast<double>(f) / static_cast<double>(plan.frames.size()), "open");
+        const std::string path = pattern.format(plan.frames[f]);
+        auto in = open_image(path);
+        add_frame(plan, read_layout(*in, path), path);
+    }
+    finish_plan(plan);
+}
+
+// The frame's header again just before its pixels: it must be as planned.
+FileLayout reopen_layout(OIIO::ImageInput& in, const ReadPlan& plan, size_t f, const std::string& path) {
+    FileLayout layout = read_layout(in, path);
+    check_frame_layout(layout, plan, path);
+    for (size_t r = 0; r < plan.runs.size(); ++r)
+        if (data_window(layout.specs[static_cast<size_t>(plan.runs[r].subimage)]) != plan.part_windows[f][r])
+            throw Error(Status::Io, "'" + path + "' changed while it was being read (its data window is now " +
+                                        window_text(data_window(layout.specs[static_cast<size_t>(plan.runs[r].subimage)])) +
+                                        ")");
+    return layout;
+}
+
+std::unique_ptr<Sequence> attributes_of(const ReadPlan& plan, const Shape& shape, const std::string& pattern,
+                                        const std::string& channels) {
+    auto seq = std::make_unique<Sequence>(shape);
+    for (size_t c = 0; c < plan.selection.size(); ++c) seq->channel_names()[c] = plan.selection[c].name;
+    seq->source() = SequenceSource{pattern, channels};
+    seq->frame_numbers() = plan.frames;
+    seq->metadata() = plan.metadata;
+    return seq;
+}
+
+// Frame f's pixels into `dst` (the plan's window, contiguous, zero where the file has no data).
+void read_frame(const std::string& path, const ReadPlan& plan, size_t f, float* dst) {
+    auto in = open_image(path);
+    reopen_layout(*in, plan, f, path);
+    const Shape shape = plan.shape();
+    const auto pixel = static_cast<OIIO::stride_t>(shape.channels * sizeof(float));
+    for (size_t r = 0; r < plan.runs.size(); ++r) {
+        const ChannelRun& run = plan.runs[r];
+        const PixelWindow& w = plan.part_windows[f][r];
+        float* at = dst + ((w.y - plan.window.y) * shape.width + (w.x - plan.window.x)) * shape.channels + run.target;
+        if (!in->read_image(run.subimage, 0, run.first, run.first + run.count, OIIO::TypeDesc::FLOAT, at, pixel,
+                            pixel * shape.width, OIIO::AutoStride)) {
+            std::string why = in->geterror();
+            throw Error(Status::Io, "cannot read '" + path + "': " + (why.empty() ? "read failed" : why));
+        }
+    }
+}
+
+}  // namespace
+
+std::vector<std::string> select_file_channels(const std::string& path, const std::string& channels) {
+    auto in = open_image(path);
+    std::vector<std::string> out;
+    for (const Selected& sel : select_channels(read_layout(*in, path), channels, path)) out.push_back(sel.source.name);
+    return out;
+}
+
+std::unique_ptr<Sequence> read_sequence(const std::string& pattern_text, const ReadOptions& options) {
+    const FramePattern pattern(pattern_text);
+    if (!options.frames.empty()) check_frames_exist(pattern, resolve_frames(pattern, options.frames));
+    ReadPlan plan = first_frame_plan(pattern, options);
+    // A typo such as --frames 1-20000 is refused from the first frame's size, before every header is read.
+    validate_shape(plan.shape());
+    check_fits_in_memory(plan.shape(), pattern_text);
+    check_color_conversion(options.color, plan.shape().channels);
+    read_headers(plan, pattern, Progress());
+    const Shape shape = plan.shape();
+    validate_shape(shape);
+    check_fits_in_memory(shape, pattern_text);
+
+    auto seq = attributes_of(plan, shape, pattern_text, options.channels);  // owned, zero-filled, contiguous
+    for (int64_t f = 0; f < shape.frames; ++f) {
+        options.progress.report(static_cast<double>(f) / shape.frames, "read");
+        read_frame(pattern.format(plan.frames[static_cast<size_t>(f)]), plan, static_cast<size_t>(f), &seq->at(f, 0, 0, 0));
+        if (options.color.active())
+            convert_colors(&seq->at(f, 0, 0, 0), shape.width, shape.height, shape.channels, options.color);
+    }
+    options.progress.report(1.0, "read");
+    return seq;
+}
+
+}  // namespace statfilter
+
+// ---- a sequence opened for reading in pieces (bands of scanlines, whole frames) ----------------
+
+namespace statfilter {
+namespace {
+
+// Rows [y0, y1) of a run's part (file coordinates) into dst. read_scanlines does not read tiled
+// parts, so those are decoded by whole rows of tiles and the rows asked for copied out.
+bool read_part_rows(OIIO::ImageInput& in, const OIIO::ImageSpec& spec, const ChannelRun& run, int y0, int y1,
+                    float* dst, OIIO::stride_t pixel, OIIO::stride_t row) {
+    if (spec.tile_width <= 0)
+        return in.read_scanlines(run.subimage, 0, y0, y1, 0, run.first, run.first + run.count, OIIO::TypeDesc::FLOAT,
+                                 dst, pixel, row);
+    const int th = spec.tile_height;
+    const int ty0 = spec.y + (y0 - spec.y) / th * th;
+    const int ty1 = std::min(spec.y + spec.height, spec.y + (y1 - spec.y + th - 1) / th * th);
+    std::vector<float> tiles(static_cast<size_t>(ty1 - ty0) * static_cast<size_t>(spec.width) * run.count);
+    if (!in.read_tiles(run.subimage, 0, spec.x, spec.x + spec.width, ty0, ty1, spec.z, spec.z + std::max(1, spec.depth),
+                       run.first, run.first + run.count, OIIO::TypeDesc::FLOAT, tiles.data()))
+        return false;
+    for (int y = y0; y < y1; ++y)
+        for (int x = 0; x < spec.width; ++x)
+            std::copy_n(&tiles[(static_cast<size_t>(y - ty0) * spec.width + x) * run.count], run.count,
+                        reinterpret_cast<float*>(reinterpret_cast<char*>(dst) + (y - y0) * row + x * pixel));
+    return true;
+}
+
 class ExrFrameSource final : public FrameSource {
 public:
     ExrFrameSource(const std::string& pattern_text, const ReadOptions& options)
         : pattern_(pattern_text), color_(options.color) {
-        const std::vector<int64_t> frames = resolve_frames(pattern_, options.frames);
-        const std::string first_path = pattern_.format(frames.front());
-        FileLayout first;
-        {
-            auto in = open_image(first_path);
-            first = read_layout(*in, first_path);
-        }
-        selection_ = select_channels(first, options.channels, first_path);
-        runs_ = channel_runs(selection_);
-        const OIIO::ImageSpec& spec = first.specs[selection_.front().source.subimage];
-        shape_ = Shape{static_cast<int64_t>(frames.size()), spec.height, spec.width, static_cast<int64_t>(selection_.size())};
-        validate_shape(shape_);
-        check_color_conversion(options.color, shape_.channels);
-        attributes_ = std::make_unique<Sequence>(Shape{shape_.frames, 1, 1, shape_.channels});
-        for (size_t c = 0; c < selection_.size(); ++c) attributes_->channel_names()[c] = selection_[c].name;
-        attributes_->source() = SequenceSource{pattern_text, options.channels};
+        plan_ = first_frame_plan(pattern_, options);
+        check_color_conversion(options.color, plan_.shape().channels);
         // Every frame's header now, before any pixel: a missing or different frame fails the run
         // before the work starts, and the metadata is at hand for the writer.
-        for (int64_t f = 0; f < shape_.frames; ++f) {
-            options.progress.report(static_cast<double>(f) / shape_.frames, "open");
-            attributes_->frame_numbers()[f] = frames[f];
-            const std::string path = pattern_.format(frames[f]);
-            auto in = open_image(path);
-            const FileLayout layout = read_layout(*in, path);
-            check_layout(layout, path);
-            attributes_->metadata()[f] = frame_metadata(layout.specs[selection_.front().source.subimage]);
-            origins_.push_back(layout.specs[selection_.front().source.subimage].y);
-        }
+        read_headers(plan_, pattern_, options.progress);
+        shape_ = plan_.shape();
+        validate_shape(shape_);
+        attributes_ = attributes_of(plan_, Shape{shape_.frames, 1, 1, shape_.channels}, pattern_text, options.channels);
     }
 
     const Shape& shape() const override { return shape_; }
     const Sequence& attributes() const override { return *attributes_; }
 
     void read_rows(int64_t f, int64_t y0, int64_t y1, float* dst) const override {
-        const std::string path = pattern_.format(attributes_->frame_numbers()[f]);
+        const auto frame = static_cast<size_t>(f);
+        const std::string path = pattern_.format(plan_.frames[frame]);
         auto in = open_image(path);
-        check_layout(read_layout(*in, path), path);
+        const FileLayout layout = reopen_layout(*in, plan_, frame, path);
         const auto pixel = static_cast<OIIO::stride_t>(shape_.channels * sizeof(float));
-        const int y = static_cast<int>(origins_[static_cast<size_t>(f)]);
-        for (const ChannelRun& run : runs_) {  // all channels of a part in one decode of each chunk
-            if (!in->read_scanlines(run.subimage, 0, y + static_cast<int>(y0), y + static_cast<int>(y1), 0, run.first,
-                                    run.first + run.count, OIIO::TypeDesc::FLOAT, dst + run.target, pixel,
-                                    pixel * shape_.width)) {
+        bool zeroed = false;
+        for (size_t r = 0; r < plan_.runs.size(); ++r) {  // all channels of a part in one decode of each chunk
+            const ChannelRun& run = plan_.runs[r];
+            const PixelWindow& w = plan_.part_windows[frame][r];
+            if (w != plan_.window && !zeroed) {  // the part covers less than the window: 0 elsewhere
+                std::fill(dst, dst + (y1 - y0) * shape_.width * shape_.channels, 0.0f);
+                zeroed = true;
+            }
+            // The rows of [y0, y1) that the part holds, in window coordinates.
+            const int64_t a = std::max(y0, w.y - plan_.window.y), b = std::min(y1, w.y + w.height - plan_.window.y);
+            if (a >= b) continue;
+            float* at = dst + ((a - y0) * shape_.width + (w.x - plan_.window.x)) * shape_.channels + run.target;
+            const int file_y = static_cast<int>(plan_.window.y + a);
+            if (!read_part_rows(*in, layout.specs[static_cast<size_t>(run.subimage)], run, file_y,
+                                file_y + static_cast<int>(b - a), at, pixel, pixel * shape_.width)) {
                 std::string why = in->geterror();
                 throw Error(Status::Io, "cannot read '" + path + "': " + (why.empty() ? "read failed" : why));
             }
@@ -378,17 +590,11 @@ public:
     }
 
 private:
-    void check_layout(const FileLayout& layout, const std::string& path) const {
-        check_frame_layout(layout, selection_, shape_, path);
-    }
-
     FramePattern pattern_;
     ColorConversion color_;
-    std::vector<Selected> selection_;
-    std::vector<ChannelRun> runs_;
+    ReadPlan plan_;
     Shape shape_;
     std::unique_ptr<Sequence> attributes_;
-    std::vector<int64_t> origins_;  // each frame's data window origin (y)
 };
 
 }  // namespace

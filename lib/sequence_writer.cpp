@@ -94,12 +94,27 @@ long temporary_owner(const std::string& name) {
     return end && *end == '_' ? pid : 0;
 }
 
+// The frame back where it was read from: its data window inside its display window. A frame of
+// another size than it was read at (or not read from a file) goes at the origin of a display
+// window of its own size.
+void place_in_windows(OIIO::ImageSpec& spec, const FrameMetadata& md) {
+    if (md.window.empty() || md.window.width != spec.width || md.window.height != spec.height) return;
+    spec.x = static_cast<int>(md.window.x);
+    spec.y = static_cast<int>(md.window.y);
+    const PixelWindow& display = md.display.empty() ? md.window : md.display;
+    spec.full_x = static_cast<int>(display.x);
+    spec.full_y = static_cast<int>(display.y);
+    spec.full_width = static_cast<int>(display.width);
+    spec.full_height = static_cast<int>(display.height);
+}
+
 // Writes one frame to a temporary file beside its final name and returns that file's name.
 std::string write_temporary(const std::string& path, const float* pixels, const Sequence& attributes, int64_t f,
                             const Shape& s, const WriteOptions& options,
                             const std::vector<std::pair<std::string, std::string>>& extra) {
     OIIO::ImageSpec spec(static_cast<int>(s.width), static_cast<int>(s.height), static_cast<int>(s.channels),
                          options.half ? OIIO::TypeDesc::HALF : OIIO::TypeDesc::FLOAT);
+    place_in_windows(spec, attributes.metadata()[f]);
     spec.channelnames = attributes.channel_names();
     spec.alpha_channel = -1;
     for (int64_t c = 0; c < s.channels; ++c)
@@ -107,6 +122,7 @@ std::string write_temporary(const std::string& path, const float* pixels, const 
     for (const auto& p : attributes.metadata()[f]) spec.attribute(p.name().string(), p.type(), p.data());
     for (const auto& [name, value] : extra) spec.attribute(name, value);
     spec.attribute("compression", options.compression);
+    if (options.tile_size > 0) spec.tile_width = spec.tile_height = options.tile_size;
 
     const std::string tmp = temporary_name(path);
     auto out = OIIO::ImageOutput::create(tmp);
@@ -140,6 +156,9 @@ public:
                                                      "' has no frame token (#, @ or %0Nd) but the sequence has " +
                                                      std::to_string(frames) + " frames");
         check_compression(options.compression);
+        if (options.tile_size < 0 || options.tile_size > 65536)
+            throw Error(Status::InvalidArgument, "EXR tile size " + std::to_string(options.tile_size) +
+                                                     " is out of range (0 = scanlines, or 1 to 65536 pixels)");
         std::vector<int64_t> numbers = attributes.frame_numbers();
         std::sort(numbers.begin(), numbers.end());
         if (std::adjacent_find(numbers.begin(), numbers.end()) != numbers.end())

@@ -1,6 +1,7 @@
 #include "cli_common.hpp"
 
 #include <cctype>
+#include <cstdlib>
 
 namespace statfilter_cli {
 
@@ -27,12 +28,15 @@ void FilterHandle::check(sf_status status) const {
 }
 
 const std::set<std::string> kInputOptions = {"channels", "frames", "ocio", "in-colorspace", "working-colorspace"};
-const std::set<std::string> kOutputOptions = {"compression", "out-colorspace"};
+const std::set<std::string> kOutputOptions = {"compression", "out-colorspace", "tiled"};
 
 const char* const kInputHelp =
     "input:\n"
-    "  --channels LIST         channels and/or layers, e.g. R,G,B or \"ViewLayer.Diffuse Indirect\"\n"
-    "                          (default: every channel of every part)\n"
+    "  --channels LIST         channels and/or layers, e.g. R,G,B or \"ViewLayer.Diffuse Indirect\";\n"
+    "                          several layers keep their full names; * = every channel of every part\n"
+    "                          (default: a file without layers whole, else its light passes only:\n"
+    "                          no Normal, Albedo, *Color, Depth/Z, Vector, Alpha/A, Denoising*, ...;\n"
+    "                          'statfilter info' shows what the default takes)\n"
     "  --frames SPEC           frames to use, e.g. 1-48 or 1-10,12 (default: all on disk, no gaps)\n"
     "  --ocio CONFIG           OpenColorIO config (default: $OCIO)\n"
     "  --in-colorspace NAME    colour space of the input files ...\n"
@@ -43,8 +47,18 @@ const char* const kOutputHelp =
     "  --float                 write 32-bit float (default: half)\n"
     "  --clamp-half            clamp values beyond half's range instead of failing\n"
     "  --compression NAME      EXR compression: zip (default), none, piz, dwaa, ...\n"
+    "  --tiled N               write N x N tiles (default: scanlines)\n"
     "  --out-colorspace NAME   convert from the working space to this one on write\n"
     "                          (default: --in-colorspace)\n";
+
+// --tiled N: a whole number of pixels (the library checks the range).
+static int tile_size(const std::string& text) {
+    char* end = nullptr;
+    const long n = std::strtol(text.c_str(), &end, 10);
+    if (text.empty() || *end != '\0' || n < 0 || n > 65536)
+        throw UsageError("--tiled '" + text + "': give the tile size in pixels, e.g. --tiled 64");
+    return static_cast<int>(n);
+}
 
 static const char* nullable(const std::string& s) { return s.empty() ? nullptr : s.c_str(); }
 
@@ -59,6 +73,7 @@ IoSettings::IoSettings(const Args& args)
     sf_write_options_init(&write);
     write.pixel_type = args.flag("float") ? SF_PIXEL_FLOAT : SF_PIXEL_HALF;
     write.half_overflow = args.flag("clamp-half") ? 1 : 0;
+    write.tile_size = tile_size(args.option("tiled", "0"));
     write.compression = compression_.c_str();
     write.ocio_config = nullable(ocio_);
     if (!work_cs_.empty()) {  // convert into the working space on read and back on write

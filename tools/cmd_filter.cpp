@@ -82,6 +82,7 @@ int run_filter(const Args& args, const std::string& method) {
         sf_read_options_init(&o);
         const std::string frames = args.option("frames");
         o.frames = frames.empty() ? nullptr : frames.c_str();
+        o.channels = "*";  // a data pass: every channel, not the default's light passes
         check(sf_sequence_read(args.option("vectors").c_str(), &o, vectors.out()));
         if (sf_filter_set_input(filter.get(), "vectors", vectors.get()) != SF_OK)
             throw UsageError("--vectors: method " + method + " does not use motion vectors (" +

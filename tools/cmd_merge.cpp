@@ -155,7 +155,8 @@ int cmd_merge(int argc, char** argv) {
                       std::to_string(shape.width) + " x " + std::to_string(shape.height));
     if (args.has("mask")) {
         const std::string frame_list = args.option("frames");  // outlives the read, as the options need
-        const sf_read_options o = plain_read_options("", frame_list, progress);
+        const std::string every = "*";  // every channel of the mask; outlives the read, as frame_list
+        const sf_read_options o = plain_read_options(every, frame_list, progress);
         check(sf_sequence_read(args.option("mask").c_str(), &o, mask.out()));
     }
 

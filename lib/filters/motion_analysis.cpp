@@ -43,6 +43,7 @@ std::vector<ParamSpec> motion_params() {
 std::unique_ptr<Sequence> read_pass(const Sequence& input, const std::string& pattern) {
     ReadOptions ro;
     ro.frames = format_frame_list(input.frame_numbers());
+    ro.channels = "*";  // a data pass: every channel, not the default's light passes
     auto aux = read_sequence(pattern, ro);
     const Shape& a = aux->shape();
     if (a.frames != input.shape().frames || a.width != input.shape().width || a.height != input.shape().height)

@@ -2,6 +2,7 @@
 #pragma once
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "statfilter/progress.hpp"
 #include "statfilter/sequence.hpp"
@@ -18,8 +19,10 @@ struct ColorConversion {
 };
 
 struct ReadOptions {
-    // Empty = every channel of every part. Otherwise a comma list of channel names and/or layer
-    // names; a layer's channels are named by their suffix ("ViewLayer.Diffuse Indirect" -> R, G, B).
+    // Empty = the default: every channel of a file without layers, the light passes of a file
+    // with layers (is_light_channel). "*" = every channel of every part. Otherwise a comma list of
+    // channel names and/or layer names; one layer alone is named by its channels' suffixes
+    // ("ViewLayer.Diffuse Indirect" -> R, G, B), several names keep the file's full names.
     std::string channels;
     std::string frames;  // empty = all frames on disk, which must have no gap
     ColorConversion color;
@@ -31,6 +34,7 @@ struct WriteOptions {
     std::string compression = "zip";
     ColorConversion color;
     bool clamp_half = false;  // false: a finite value beyond half's range is an error
+    int tile_size = 0;        // 0 = scanlines; N = N x N tiles
     Progress progress;
 };
 
@@ -40,6 +44,11 @@ struct OutputChecks {
     std::string input_pattern;      // refuse to write any frame of this sequence ("" = no check) ...
     bool overwrite = false;         // ... unless told to
 };
+
+// False for the data and auxiliary passes a default selection leaves out of a layered file.
+bool is_light_channel(const std::string& channel);
+// The channels of one file (as named there) that ReadOptions::channels takes, in order.
+std::vector<std::string> select_file_channels(const std::string& path, const std::string& channels);
 
 std::unique_ptr<Sequence> read_sequence(const std::string& pattern, const ReadOptions& options);
 // The same sequence opened for reading in pieces (pipeline/frame_source.hpp): every frame's header is

@@ -72,6 +72,10 @@ class sf_strides(Structure):
     _fields_ = [("channel", c_int64), ("pixel", c_int64), ("row", c_int64), ("frame", c_int64)]
 
 
+class sf_window(Structure):
+    _fields_ = [("x", c_int64), ("y", c_int64), ("width", c_int64), ("height", c_int64)]
+
+
 class sf_channel_stats(Structure):
     _fields_ = [("min", c_double), ("max", c_double), ("mean", c_double),
                 ("nan_count", c_int64), ("inf_count", c_int64)]
@@ -97,7 +101,8 @@ class sf_write_options(Structure):
                 ("colorspace_out", c_char_p),
                 ("half_overflow", c_int),
                 ("progress", sf_progress_callback),
-                ("progress_user", c_void_p)]
+                ("progress_user", c_void_p),
+                ("tile_size", c_int)]
 
 
 class sf_param_info(Structure):
@@ -204,7 +209,7 @@ class sf_merge_options(Structure):
 STRUCTS = {cls.__name__: cls for cls in (sf_shape, sf_strides, sf_channel_stats, sf_comparison, sf_read_options,
                                          sf_write_options, sf_param_info, sf_filter_info, sf_plugin_run,
                                          sf_plugin)}
-STRUCTS.update({cls.__name__: cls for cls in (sf_crop_window, sf_merge_options, sf_run_options)})
+STRUCTS.update({cls.__name__: cls for cls in (sf_crop_window, sf_merge_options, sf_run_options, sf_window)})
 
 # ---- functions: name -> (restype, [argtypes]) -------------------------------------------------
 
@@ -237,6 +242,8 @@ FUNCTIONS = {
     # reading and writing
     "sf_read_options_init": (None, [_P(sf_read_options)]),
     "sf_sequence_read": (sf_status, [c_char_p, _P(sf_read_options), _P(sf_sequence)]),
+    "sf_channel_selection": (sf_status, [c_char_p, c_char_p, c_char_p, c_size_t, _P(c_size_t)]),
+    "sf_sequence_frame_windows": (sf_status, [sf_sequence, c_int64, _P(sf_window), _P(sf_window), _P(sf_window)]),
     "sf_write_options_init": (None, [_P(sf_write_options)]),
     "sf_sequence_write": (sf_status, [sf_sequence, c_char_p, _P(sf_write_options)]),
     # filters

@@ -125,9 +125,12 @@ def read_sequence(pattern: Pattern, channels: Optional[Channels] = None, frames:
 
     pattern:   ``dir/beauty.####.exr`` (or ``%04d``, ``#``, ``@@@``); a name without a frame token
                reads that one file as a single frame.
-    channels:  None for every channel of every part; else channel and/or layer names, as a list
-               or a comma-separated string, e.g. ``"R,G,B"`` or ``"ViewLayer.Diffuse Indirect"``
-               (a layer's channels are then named by their suffix: R, G, B).
+    channels:  None for the default: every channel of a file without layers (R, G, B, A), the
+               light passes of a file with layers (no Normal, Albedo, *Color, Depth/Z, Vector,
+               Alpha/A, Denoising*, ...); ``"*"`` for every channel of every part; else channel
+               and/or layer names, as a list or a comma-separated string, e.g. ``"R,G,B"`` or
+               ``"ViewLayer.Diffuse Indirect"`` (one layer alone is named by its suffixes R, G, B;
+               several names keep the file's full channel names).
     frames:    None for every frame found on disk (a gap in the numbering is an error); else a
                range string ``"1-48"``, ``"1-10,12"``, ``"1-20x2"``, an int, a range or a list of
                ints. Frames are always returned in ascending order.

@@ -16,7 +16,11 @@ namespace statfilter_test {
 struct ExrPart {
     std::string name;
     std::vector<std::string> channels;
-    std::vector<float> pixels;
+    std::vector<float> pixels;  // of the data window
+    // The part's data window inside the file's display window (width x height at 0, 0); a width of
+    // 0 = the whole display window.
+    int x = 0, y = 0, data_width = 0, data_height = 0;
+    std::vector<std::pair<std::string, std::string>> attributes = {};  // header attributes, as text
 };
 
 // Pixels of a frame of the given size, from sample_value() shifted by `offset`.
@@ -33,9 +37,16 @@ inline void write_exr(const std::string& path, int width, int height, const std:
                       OIIO::TypeDesc type = OIIO::TypeDesc::FLOAT, const std::string& compression = "zip") {
     std::vector<OIIO::ImageSpec> specs;
     for (const ExrPart& part : parts) {
-        if (part.pixels.size() != static_cast<size_t>(width) * height * part.channels.size())
+        const int w = part.data_width ? part.data_width : width, h = part.data_width ? part.data_height : height;
+        if (part.pixels.size() != static_cast<size_t>(w) * h * part.channels.size())
             throw std::runtime_error("write_exr: pixel count does not match the part's size");
-        OIIO::ImageSpec spec(width, height, static_cast<int>(part.channels.size()), type);
+        OIIO::ImageSpec spec(w, h, static_cast<int>(part.channels.size()), type);
+        spec.x = part.x;
+        spec.y = part.y;
+        spec.full_x = spec.full_y = 0;
+        spec.full_width = width;
+        spec.full_height = height;
+        for (const auto& [name, value] : part.attributes) spec.attribute(name, value);
         spec.channelnames = part.channels;
         spec.alpha_channel = -1;
         spec.attribute("compression", compression);

@@ -416,3 +416,37 @@ TEST(CapiIO, ReadProgressAndCancel) {
     expect_failure(sf_sequence_read(dir.file("r.####.exr").c_str(), &o, &cancelled), SF_ERROR_CANCELLED, {"cancel"});
     EXPECT_EQ(cancelled, nullptr);
 }
+
+TEST(ChannelSelection, NamesWhatADefaultOrAListTakes) {
+    TempDir dir;
+    Seq seq = filled_sequence(shape_of(1, 2, 3, 4), sample_value);
+    const char* names[] = {"ViewLayer.Combined.R", "ViewLayer.Combined.A", "ViewLayer.Normal.X", "ViewLayer.Emit.R"};
+    for (int64_t c = 0; c < 4; ++c) EXPECT_SF_OK(sf_sequence_set_channel_name(seq.get(), c, names[c]));
+    write_ok(seq.get(), dir.file("l.0001.exr"));
+    auto selection = [&](const char* channels) {
+        size_t needed = 0;
+        EXPECT_SF_OK(sf_channel_selection(dir.file("l.0001.exr").c_str(), channels, nullptr, 0, &needed));
+        std::string text(needed, '\0');
+        EXPECT_SF_OK(sf_channel_selection(dir.file("l.0001.exr").c_str(), channels, text.data(), needed, &needed));
+        return std::string(text.c_str());
+    };
+    const std::string by_default = selection(nullptr);
+    EXPECT_NE(by_default.find("ViewLayer.Combined.R"), std::string::npos) << by_default;
+    EXPECT_NE(by_default.find("ViewLayer.Emit.R"), std::string::npos) << by_default;
+    EXPECT_EQ(by_default.find("Normal"), std::string::npos) << by_default;
+    EXPECT_EQ(by_default.find(".A"), std::string::npos) << by_default;
+    EXPECT_EQ(selection("ViewLayer.Normal"), "ViewLayer.Normal.X");
+    const std::string all = selection("*");
+    EXPECT_EQ(std::count(all.begin(), all.end(), ','), 3) << all;
+}
+
+TEST(FrameWindows, OfASequenceNotReadFromFilesAreItsOwnSize) {
+    Seq seq = rgb_sequence();
+    sf_window data{}, display{}, file_data{};
+    ASSERT_SF_OK(sf_sequence_frame_windows(seq.get(), 1, &data, &display, &file_data));
+    EXPECT_EQ(data.width, 5);
+    EXPECT_EQ(data.height, 4);
+    EXPECT_EQ(display.width, 5);
+    EXPECT_EQ(file_data.height, 4);
+    EXPECT_EQ(sf_sequence_frame_windows(seq.get(), 3, &data, nullptr, nullptr), SF_ERROR_INVALID_ARGUMENT);
+}

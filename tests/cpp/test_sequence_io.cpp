@@ -6,7 +6,9 @@
 
 #include <sys/stat.h>
 
+#include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <limits>
 
 #include "exr_util.hpp"
@@ -265,14 +267,78 @@ TEST_F(MultiPart, SingleChannelsFromBothParts) {
     EXPECT_EQ(seq->at(2, 3, 5, 1), sample_value(3, 3, 5, 1) + 1000.0f);
 }
 
-TEST_F(MultiPart, EmptySelectionReadsEveryChannelOfEveryPart) {
-    auto seq = read_sequence(pattern(), channels(""));
+TEST_F(MultiPart, StarReadsEveryChannelOfEveryPart) {
+    auto seq = read_sequence(pattern(), channels("*"));
     EXPECT_EQ(seq->channel_names(),
               (std::vector<std::string>{"ViewLayer.Combined.R", "ViewLayer.Combined.G", "ViewLayer.Combined.B",
                                         "ViewLayer.Combined.A", "ViewLayer.Diffuse Indirect.R",
                                         "ViewLayer.Diffuse Indirect.G", "ViewLayer.Diffuse Indirect.B"}));
     EXPECT_EQ(seq->at(1, 2, 3, 3), sample_value(2, 2, 3, 3));
     EXPECT_EQ(seq->at(1, 2, 3, 6), sample_value(2, 2, 3, 2) + 1000.0f);
+}
+
+TEST_F(MultiPart, EmptySelectionReadsTheLightPassesWithoutAlpha) {
+    auto seq = read_sequence(pattern(), channels(""));
+    EXPECT_EQ(seq->channel_names(),
+              (std::vector<std::string>{"ViewLayer.Combined.R", "ViewLayer.Combined.G", "ViewLayer.Combined.B",
+                                        "ViewLayer.Diffuse Indirect.R", "ViewLayer.Diffuse Indirect.G",
+                                        "ViewLayer.Diffuse Indirect.B"}));
+    EXPECT_EQ(seq->at(1, 2, 3, 2), sample_value(2, 2, 3, 2));
+    EXPECT_EQ(seq->at(1, 2, 3, 5), sample_value(2, 2, 3, 2) + 1000.0f);
+}
+
+TEST_F(MultiPart, SeveralLayersKeepTheirNamesThroughWrite) {
+    auto seq = read_sequence(pattern(), channels("ViewLayer.Diffuse Indirect, ViewLayer.Combined"));
+    const std::vector<std::string> names = {"ViewLayer.Diffuse Indirect.R", "ViewLayer.Diffuse Indirect.G",
+                                            "ViewLayer.Diffuse Indirect.B", "ViewLayer.Combined.R",
+                                            "ViewLayer.Combined.G", "ViewLayer.Combined.B", "ViewLayer.Combined.A"};
+    EXPECT_EQ(seq->channel_names(), names);
+    std::filesystem::create_directory(dir.path() / "out");
+    write_sequence(*seq, dir.file("out/both.####.exr"), float_options());
+    // EXR keeps channels sorted by name: the names, not their order, are what must survive.
+    std::vector<std::string> written = read_exr(dir.file("out/both.0001.exr")).spec.channelnames, expected = names;
+    std::sort(written.begin(), written.end());
+    std::sort(expected.begin(), expected.end());
+    EXPECT_EQ(written, expected);
+    EXPECT_EQ(read_sequence(dir.file("out/both.####.exr"), channels("ViewLayer.Diffuse Indirect"))->at(0, 1, 2, 1),
+              sample_value(1, 1, 2, 1) + 1000.0f);
+}
+
+TEST_F(MultiPart, AChannelTakenTwiceIsRefused) {
+    const auto [status, message] =
+        error_of([&] { read_sequence(pattern(), channels("ViewLayer.Combined,ViewLayer.Combined.R")); });
+    EXPECT_EQ(status, Status::InvalidArgument);
+    EXPECT_NE(message.find("'ViewLayer.Combined.R'"), std::string::npos) << message;
+    EXPECT_NE(message.find("twice"), std::string::npos) << message;
+}
+
+TEST(DefaultChannels, DataPassesAreLeftOut) {
+    for (const char* light : {"ViewLayer.Combined.R", "ViewLayer.Diffuse Direct.G", "ViewLayer.Glossy Indirect.B",
+                              "ViewLayer.Emit.R", "ViewLayer.Environment.R", "ViewLayer.Noisy Image.R", "R", "Y"})
+        EXPECT_TRUE(is_light_channel(light)) << light;
+    for (const char* data : {"ViewLayer.Normal.X", "ViewLayer.Denoising Albedo.R", "ViewLayer.Diffuse Color.R",
+                             "ViewLayer.Glossy Color.G", "ViewLayer.Depth.Z", "Z", "ViewLayer.Vector.X",
+                             "ViewLayer.Combined.A", "A", "ViewLayer.Alpha.A", "ViewLayer.Denoising Normal.X",
+                             "ViewLayer.Mist.Z", "ViewLayer.IndexOB.X", "ViewLayer.CryptoObject00.R", "albedo.R"})
+        EXPECT_FALSE(is_light_channel(data)) << data;
+}
+
+TEST(DefaultChannels, AFileWithoutLayersIsReadWhole) {
+    TempDir dir;
+    write_exr(dir.file("rgba.0001.exr"), 3, 2, {"R", "G", "B", "A"}, make_pixels(3, 2, 4, 1));
+    auto seq = read_sequence(dir.file("rgba.####.exr"), ReadOptions());
+    EXPECT_EQ(seq->channel_names(), (std::vector<std::string>{"R", "G", "B", "A"}));
+    EXPECT_EQ(select_file_channels(dir.file("rgba.0001.exr"), ""), (std::vector<std::string>{"R", "G", "B", "A"}));
+}
+
+TEST(DefaultChannels, AFileOfDataPassesOnlyNamesWhatToDo) {
+    TempDir dir;
+    write_exr(dir.file("aux.0001.exr"), 3, 2, {"ViewLayer.Normal.X", "ViewLayer.Depth.Z"}, make_pixels(3, 2, 2, 1));
+    const auto [status, message] = error_of([&] { read_sequence(dir.file("aux.####.exr"), ReadOptions()); });
+    EXPECT_EQ(status, Status::NotFound);
+    EXPECT_NE(message.find("aux.0001.exr"), std::string::npos) << message;
+    EXPECT_NE(message.find("ViewLayer.Normal.X"), std::string::npos) << message;
+    EXPECT_EQ(read_sequence(dir.file("aux.####.exr"), channels("*"))->shape().channels, 2);
 }
 
 TEST_F(MultiPart, MissingLayerListsTheAvailableChannels) {

@@ -141,10 +141,14 @@ SF_API sf_status sf_pattern_format(const char* pattern, int64_t frame, char* buf
 
 typedef struct sf_read_options {
     size_t struct_size;        /* sizeof(sf_read_options), set by sf_read_options_init */
-    const char* channels;      /* NULL/"" = every channel of every part; else a comma list of
-                                  channel names and/or layer names, e.g. "R,G,B" or
-                                  "ViewLayer.Diffuse Indirect" (a layer's channels are named by
-                                  their suffix, R, G, B) */
+    const char* channels;      /* NULL/"" = the default: every channel of a file without layers
+                                  (R,G,B,A...); of a file with layers its light passes only, never
+                                  Normal, Albedo, *Color, Depth/Z, Vector, Alpha/A, Denoising*,
+                                  Mist, Index*, UV, Position, Crypto* (see sf_channel_selection).
+                                  "*" = every channel of every part. Else a comma list of channel
+                                  and/or layer names, e.g. "R,G,B" or "ViewLayer.Diffuse Indirect":
+                                  one layer alone is named by its channels' suffixes (R, G, B);
+                                  several names keep the file's full channel names. */
     const char* frames;        /* NULL/"" = every frame found on disk; else "1-48", "1-10,12" */
     const char* ocio_config;   /* NULL = $OCIO; used only when colour spaces are given */
     const char* colorspace_in; /* convert from this OCIO colour space ... */
@@ -155,8 +159,34 @@ typedef struct sf_read_options {
 
 SF_API void sf_read_options_init(sf_read_options* options);
 
-/* Read a frame sequence. All frames must exist and have the same size and channels. */
+/* Read a frame sequence. All frames must exist, hold the channels chosen in the first frame,
+ * flat (a deep file is SF_ERROR_UNSUPPORTED) and share one display window. The frames are read on
+ * their common data window (a region render stays a region); when their data windows differ
+ * (auto-cropped renders, or channels of parts of different windows) on the box of the display
+ * window and all data windows, pixels outside a frame's own data window being 0. Writing puts
+ * every frame back in its windows (sf_sequence_frame_windows). */
 SF_API sf_status sf_sequence_read(const char* pattern, const sf_read_options* options, sf_sequence* out);
+
+/* The channels of one file (names as in the file, comma-separated) that a channel selection
+ * (sf_read_options.channels: NULL/"" for the default, "*", or a list) takes, written into buffer
+ * (two-call idiom with *needed, which counts the terminating NUL). */
+SF_API sf_status sf_channel_selection(const char* path, const char* channels, char* buffer, size_t capacity,
+                                      size_t* needed);
+
+/* A rectangle of pixels in a file's coordinates. */
+typedef struct sf_window {
+    int64_t x;
+    int64_t y;
+    int64_t width;
+    int64_t height;
+} sf_window;
+
+/* Where frame index `frame` came from. data: the window its pixels fill (the sequence's width x
+ * height), the output's data window; display: its display window; file_data: the frame's own
+ * data window in its file, smaller than data when its pixels outside were read as 0. A sequence
+ * not read from files has all three at (0, 0) of its own size. Any pointer may be NULL. */
+SF_API sf_status sf_sequence_frame_windows(sf_sequence sequence, int64_t frame, sf_window* data, sf_window* display,
+                                           sf_window* file_data);
 
 typedef enum sf_pixel_type { SF_PIXEL_HALF = 0, SF_PIXEL_FLOAT = 1 } sf_pixel_type;
 
@@ -171,6 +201,7 @@ typedef struct sf_write_options {
                                     1 = clamp to +-65504 */
     sf_progress_callback progress;
     void* progress_user;
+    int tile_size;               /* 0 = scanline EXR (default); N = N x N tiles (1..65536) */
 } sf_write_options;
 
 SF_API void sf_write_options_init(sf_write_options* options);
