@@ -105,11 +105,14 @@ double HybridStage::window_bytes(const Shape& s, int threads) const {
 }
 
 double HybridStage::min_bytes(const Shape& s, int threads) const {
-    LowRankStage temporal(options_.temporal);
+    const LowRankStage temporal(options_.temporal);
     const double frame = static_cast<double>(s.pixels()) * s.channels * sizeof(float);
-    // The first pass' diffusion holds a few working copies of its frame per thread.
-    const double analysis = temporal.min_bytes(s, threads) + analysis_bytes(s) + threads * 6 * frame;
-    return std::max(analysis, window_bytes(s, threads));
+    const int64_t rank = options_.temporal.per_pixel ? options_.temporal.max_rank : options_.temporal.known_rank;
+    // The passes: the temporal model, a band and the motion maps; the rebuild: the model, the moving
+    // mask and the first pass' diffusion (a few working copies of its frame per thread); the window.
+    const double passes = temporal.pass_bytes(s, rank) + temporal.band_row_bytes(s) + analysis_bytes(s);
+    const double rebuild = temporal.emission_bytes(s, rank, threads) + threads * 6 * frame + 5.0 * s.pixels();
+    return std::max({passes, rebuild, window_bytes(s, threads)});
 }
 
 void HybridStage::run(const FrameSource& source, const FrameConsumer& consume, const StageContext& ctx, Results& results) {

@@ -77,20 +77,36 @@ double LowRankStage::band_row_bytes(const Shape& s) const {
     return static_cast<double>(s.frames) * s.width * s.channels * (sizeof(float) + sizeof(double));
 }
 
-double LowRankStage::fixed_bytes(const Shape& s, int64_t rank, int threads) const {
+double LowRankStage::pass_bytes(const Shape& s, int64_t rank) const {
     const double P = static_cast<double>(s.pixels()), C = static_cast<double>(s.channels);
     const double stored = options_.per_pixel ? std::min<int64_t>(options_.max_rank, s.frames - 1) : rank;
     double bytes = stored * P * C * sizeof(float) + P * C * sizeof(double);  // coefficients and means
-    if (options_.prep.keep_mean) bytes += P * C * (sizeof(double) + 1 + sizeof(MeanCorrection));
-    if (options_.per_pixel) bytes += (stored + 1) * P * sizeof(double) + P * (sizeof(int64_t) + sizeof(float));
-    bytes += threads * P * C * (sizeof(double) + sizeof(float));           // one frame being rebuilt per thread
-    bytes += 2.0 * s.frames * s.frames * sizeof(double);                   // Gram and basis
+    if (options_.prep.keep_mean) bytes += P * C * (sizeof(double) + 1);      // linear means and signs
+    if (options_.per_pixel) bytes += (stored + 1) * P * sizeof(double) + P * sizeof(int64_t);  // energies, ranks
+    bytes += 2.0 * s.frames * s.frames * sizeof(double);                     // Gram and basis
     return bytes;
+}
+
+double LowRankStage::emission_bytes(const Shape& s, int64_t rank, int threads) const {
+    const double P = static_cast<double>(s.pixels()), C = static_cast<double>(s.channels);
+    const double stored = options_.per_pixel ? std::min<int64_t>(options_.max_rank, s.frames - 1) : rank;
+    double bytes = stored * P * C * sizeof(float) + P * C * sizeof(double);
+    // The corrections are solved while the linear means are still held.
+    if (options_.prep.keep_mean) bytes += P * C * (sizeof(double) + 1 + sizeof(MeanCorrection));
+    if (options_.per_pixel) bytes += P * (sizeof(int64_t) + sizeof(float));
+    const double chunk = std::min<double>(kRebuildChunk, P * C);
+    bytes += threads * (P * C * sizeof(float) + chunk * sizeof(double));  // a frame being rebuilt per thread
+    bytes += 2.0 * s.frames * s.frames * sizeof(double);
+    return bytes;
+}
+
+double LowRankStage::held_bytes(const Shape& s, int64_t rank, int threads, int64_t band_rows) const {
+    return std::max(pass_bytes(s, rank) + band_rows * band_row_bytes(s), emission_bytes(s, rank, threads));
 }
 
 double LowRankStage::min_bytes(const Shape& s, int threads) const {
     const int64_t rank = options_.per_pixel ? options_.max_rank : options_.known_rank;
-    return fixed_bytes(s, std::min<int64_t>(rank, std::max<int64_t>(s.frames - 1, 0)), threads) + band_row_bytes(s);
+    return held_bytes(s, std::min<int64_t>(rank, std::max<int64_t>(s.frames - 1, 0)), threads, 1);
 }
 
 void LowRankStage::run(const FrameSource& source, const FrameConsumer& consume, const StageContext& ctx, Results& results) {
@@ -137,7 +153,7 @@ LowRankStatistics LowRankStage::statistics(const FrameSource& source, const Stag
     // single band (the shot fits) is kept, with its prepared tiles, for the second pass: one read.
     const bool in_memory = source.in_memory() != nullptr;
     const int64_t bound_rank = options_.per_pixel ? options_.max_rank : options_.known_rank;
-    const double fixed = fixed_bytes(s, std::min<int64_t>(bound_rank, std::max<int64_t>(F - 1, 0)), ctx.threads);
+    const double fixed = pass_bytes(s, std::min<int64_t>(bound_rank, std::max<int64_t>(F - 1, 0)));
     const auto fit_rows = static_cast<int64_t>((ctx.budget_bytes - fixed) / band_row_bytes(s));
     const int64_t rows = in_memory ? s.height : std::max<int64_t>(1, std::min(s.height, fit_rows));
     bool keep = rows >= s.height;
@@ -232,13 +248,13 @@ void LowRankStage::reconstruct(const FrameSource& source, LowRankStatistics stat
     if (!in_memory) {
         int64_t most = 0;
         for (const GroupModel& m : models) most = std::max(most, m.stored);
-        const double held = fixed_bytes(s, most, ctx.threads);
-        if (keep && held + band_row_bytes(s) * rows > ctx.budget_bytes) {
+        const double held = pass_bytes(s, most);
+        if (keep && held_bytes(s, most, ctx.threads, rows) > ctx.budget_bytes) {
             keep = stats.keep = false;
             kept_band.reset();
             for (auto& c : cached) c.reset();
         }
-        check_memory_budget(held + band_row_bytes(s), ctx.budget_bytes,
+        check_memory_budget(held_bytes(s, most, ctx.threads, 1), ctx.budget_bytes,
                             "the temporal model (" + std::to_string(most) + " components per series)");
         if (!keep)
             rows2 = std::max<int64_t>(1, std::min(rows, static_cast<int64_t>((ctx.budget_bytes - held) / band_row_bytes(s))));
@@ -324,25 +340,30 @@ void LowRankStage::reconstruct(const FrameSource& source, LowRankStatistics stat
         constexpr double lim = std::numeric_limits<float>::max();
         for (const GroupModel& m : models) {
             const int64_t count = m.group.count, n_total = static_cast<int64_t>(m.means.size());
-            values.assign(static_cast<size_t>(n_total), 0.0);
-            for (int64_t i = 0; i < m.stored; ++i) {
-                const double v = m.basis.vector(t, i);
-                const float* ai = m.coeff.data() + i * n_total;
-                if (m.ranks.empty()) {
-                    for (int64_t j = 0; j < n_total; ++j) values[j] += v * ai[j];
-                } else {
-                    for (int64_t j = 0; j < n_total; ++j)
-                        if (i < m.ranks[static_cast<size_t>(j / count)]) values[j] += v * ai[j];
+            // In chunks of series: each is rebuilt on its own, so a chunk needs only its own doubles.
+            for (int64_t j0 = 0; j0 < n_total; j0 += kRebuildChunk) {
+                const int64_t n = std::min(kRebuildChunk, n_total - j0);
+                values.assign(static_cast<size_t>(n), 0.0);
+                for (int64_t i = 0; i < m.stored; ++i) {
+                    const double v = m.basis.vector(t, i);
+                    const float* ai = m.coeff.data() + i * n_total + j0;
+                    if (m.ranks.empty()) {
+                        for (int64_t j = 0; j < n; ++j) values[j] += v * ai[j];
+                    } else {
+                        for (int64_t j = 0; j < n; ++j)
+                            if (i < m.ranks[static_cast<size_t>((j0 + j) / count)]) values[j] += v * ai[j];
+                    }
                 }
-            }
-            for (int64_t j = 0; j < n_total; ++j) values[j] += m.means[j];
-            inverse_transform(m.prep.transform, m.prep.scale, values.data(), values.size());
-            if (!m.corrections.empty())
-                for (int64_t j = 0; j < n_total; ++j) values[j] = m.corrections[j].apply(values[j]);
-            for (int64_t j = 0; j < n_total; ++j) {
-                const double x = values[j];  // saturate at the float range; NaN passes through
-                frame[static_cast<size_t>((j / count) * s.channels + m.group.first + j % count)] =
-                    static_cast<float>(x > lim ? lim : (x < -lim ? -lim : x));
+                for (int64_t j = 0; j < n; ++j) values[j] += m.means[j0 + j];
+                inverse_transform(m.prep.transform, m.prep.scale, values.data(), values.size());
+                if (!m.corrections.empty())
+                    for (int64_t j = 0; j < n; ++j) values[j] = m.corrections[j0 + j].apply(values[j]);
+                for (int64_t j = 0; j < n; ++j) {
+                    const double x = values[j];  // saturate at the float range; NaN passes through
+                    const int64_t series = j0 + j;
+                    frame[static_cast<size_t>((series / count) * s.channels + m.group.first + series % count)] =
+                        static_cast<float>(x > lim ? lim : (x < -lim ? -lim : x));
+                }
             }
         }
         consume(t, frame.data());

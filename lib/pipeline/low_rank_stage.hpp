@@ -83,8 +83,14 @@ public:
                      const StageContext& context, Results& results) const;
     const LowRankOptions& options() const { return options_; }
 
-    // Bytes held besides the band for a shape, with `rank` components kept per series.
-    double fixed_bytes(const Shape& shape, int64_t rank, int threads) const;
+    // Bytes held besides the band while the passes read the shot, with `rank` components per series;
+    // bytes held while the frames are rebuilt (no band then); the larger of the two with a band of
+    // band_rows scanlines.
+    double pass_bytes(const Shape& shape, int64_t rank) const;
+    double emission_bytes(const Shape& shape, int64_t rank, int threads) const;
+    double held_bytes(const Shape& shape, int64_t rank, int threads, int64_t band_rows) const;
+    // Series rebuilt at a time per thread.
+    static constexpr int64_t kRebuildChunk = 1 << 16;
     // Bytes per scanline of band.
     double band_row_bytes(const Shape& shape) const;
 
