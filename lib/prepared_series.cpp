@@ -4,25 +4,41 @@
 #include <cmath>
 #include <vector>
 
+#include "pipeline/parallel.hpp"
+
 namespace statfilter {
+
+namespace {
+
+// prepare_tile's transform and centring for series [j0, j1) of a tile of n series.
+void prepare_series(double* tile, int64_t frames, int64_t n, int64_t j0, int64_t j1, const SeriesPrep& prep, double* means) {
+    const double scale = prep.scale > 0 ? prep.scale : 1.0;
+    // The tile is larger than the caches: transform a frame's row while it is summed into the means.
+    std::fill(means + j0, means + j1, 0.0);
+    std::vector<uint8_t> constant(static_cast<size_t>(j1 - j0), 1);  // a constant series centres to exact zeros
+    for (int64_t f = 0; f < frames; ++f) {
+        double* row = tile + f * n;
+        forward_transform(prep.transform, scale, row + j0, static_cast<size_t>(j1 - j0));
+        for (int64_t j = j0; j < j1; ++j) {
+            means[j] += row[j];
+            if (row[j] != tile[j]) constant[j - j0] = 0;
+        }
+    }
+    for (int64_t j = j0; j < j1; ++j) means[j] = constant[j - j0] ? tile[j] : means[j] / static_cast<double>(frames);
+    for (int64_t f = 0; f < frames; ++f)
+        for (int64_t j = j0; j < j1; ++j) tile[f * n + j] -= means[j];
+}
+
+}  // namespace
 
 void prepare_tile(double* tile, int64_t frames, int64_t n, const SeriesPrep& prep, double* means) {
     if (prep.repair_nonfinite) repair_nonfinite(tile, frames, n);
-    const double scale = prep.scale > 0 ? prep.scale : 1.0;
-    // The tile is larger than the caches: transform a frame's row while it is summed into the means.
-    std::fill(means, means + n, 0.0);
-    std::vector<uint8_t> constant(static_cast<size_t>(n), 1);  // a constant series centres to exact zeros
-    for (int64_t f = 0; f < frames; ++f) {
-        double* row = tile + f * n;
-        forward_transform(prep.transform, scale, row, static_cast<size_t>(n));
-        for (int64_t j = 0; j < n; ++j) {
-            means[j] += row[j];
-            if (row[j] != tile[j]) constant[j] = 0;
-        }
-    }
-    for (int64_t j = 0; j < n; ++j) means[j] = constant[j] ? tile[j] : means[j] / static_cast<double>(frames);
-    for (int64_t f = 0; f < frames; ++f)
-        for (int64_t j = 0; j < n; ++j) tile[f * n + j] -= means[j];
+    // Series are independent: chunks of them on every core give the same numbers as one pass.
+    constexpr int64_t chunk = 8192;
+    const Progress none;
+    parallel_for((n + chunk - 1) / chunk, resolve_threads(0), [&](int64_t c) {
+        prepare_series(tile, frames, n, c * chunk, std::min(n, (c + 1) * chunk), prep, means);
+    }, {none});
 }
 
 PreparedSeries::PreparedSeries(const Sequence& input, ChannelSelection group, const SeriesPrep& prep,
