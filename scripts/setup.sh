@@ -10,6 +10,7 @@ APT_PACKAGES=(
   python3-venv  # scripts/test_wheel.sh: the wheel tested in a fresh venv
   time  # /usr/bin/time: peak memory in bench/
   clang libclang-rt-dev  # libFuzzer, for scripts/fuzz.sh
+  chromium  # headless screenshot of the review page (tests/python/test_report.py)
 )
 PY_PACKAGES=(numpy pytest jsonschema)  # and pyoidn, below; jsonschema: tests/cli/test_crops_schema.py
 
