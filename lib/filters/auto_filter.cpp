@@ -172,7 +172,7 @@ private:
 class AutoFilter final : public Filter {
 public:
     AutoFilter() : Filter(make_params()) {
-        accept_input("vectors");
+        for (const char* pass : {"albedo", "normal", "vectors"}) accept_input(pass);
         declare_image_result("alpha");
     }
 
@@ -208,7 +208,7 @@ public:
             const bool want_oidn = quality == "high" && params().get_string("prefilter").empty();
             if (want_oidn && oidn_problem().empty()) return nullptr;
             const ParamSet hybrid = hybrid_params();
-            if (!hybrid_streams(hybrid, input("vectors") != nullptr)) return nullptr;
+            if (!hybrid_streams(hybrid, names_guide_passes(*this, params()))) return nullptr;
             HybridStageOptions options = hybrid_stage_options(hybrid);
             options.refine_after = params().get_string("postfilter").empty();  // else Filter::execute runs the user's
             return std::make_unique<MotionPresetStage>(std::move(options), quality, resolved_transform(),
@@ -268,6 +268,8 @@ protected:
             }
         Choice choice;
         std::shared_ptr<Sequence> alpha;
+        // The renderer's passes, read and checked before any work, used or not.
+        const GuidePasses guides = guide_passes(*this, input, params());
         // The transform: the preset's unless the user named one.
         std::string transform = params().get_string("transform");
         if (transform == "preset") transform = quality == "fast" ? fast_transform() : "log";
@@ -283,9 +285,9 @@ protected:
             // alpha, the temporal-change test and the vectors (when given) decide; beta (z-scores or
             // passes) is left to the hybrid if it is picked.
             alpha = compute_alpha(input, resolved, {progress, 0.0, 0.3, "analyse"});
-            const double moving = mean_of_map(*moving_weight(input, *alpha, this->input("vectors"), resolved));
+            const double moving = mean_of_map(*moving_weight(input, *alpha, guides, resolved));
             mutable_results().set("motion_fraction", moving);
-            const bool passes = !params().get_string("albedo").empty() || !params().get_string("normal").empty();
+            const bool passes = guides.surfaces();
             choice = choose(quality, moving, moving < params().get_float("still_fraction"), passes,
                             want_oidn && problem.empty(), oidn_note);
         }
@@ -294,10 +296,14 @@ protected:
             chosen->params().set_string(name, resolved.get_string(name));
         if (choice.method == "hybrid")
             for (const auto& spec : motion_params())
-                if (choice.passes || (spec.name != "albedo" && spec.name != "normal"))
+                if (spec.name != "albedo" && spec.name != "normal")
                     chosen->params().set_string(spec.name, params().get_string(spec.name));
         for (const auto& [name, value] : choice.params) chosen->params().set_string(name, value);
-        if (choice.method == "hybrid") chosen->set_input("vectors", this->input("vectors"));
+        if (choice.method == "hybrid") {  // the passes as read once here
+            chosen->set_input("vectors", guides.vectors);
+            chosen->set_input("albedo", choice.passes ? guides.albedo : nullptr);
+            chosen->set_input("normal", choice.passes ? guides.normal : nullptr);
+        }
         if (!choice.prefilter.empty()) {
             chosen->params().set_string("prefilter", choice.prefilter);
             chosen->params().set_string("prefilter_params", kOidnPrefilterParams);

@@ -41,7 +41,7 @@ void pass_common(const ParamSet& from, Filter& to) {
 class HybridFilter final : public Filter {
 public:
     HybridFilter() : Filter(make_params()) {
-        accept_input("vectors");
+        for (const char* pass : {"albedo", "normal", "vectors"}) accept_input(pass);
         declare_image_result("alpha");
         declare_image_result("beta");
     }
@@ -89,7 +89,7 @@ public:
     // With motion compensation and no renderer pass to read alongside, the hybrid streams
     // (filters/hybrid_stage.hpp); otherwise it holds the shot.
     std::unique_ptr<StreamStage> stream_stage() const override {
-        if (!hybrid_streams(params(), input("vectors") != nullptr)) return nullptr;
+        if (!hybrid_streams(params(), names_guide_passes(*this, params()))) return nullptr;
         return std::make_unique<HybridStage>(hybrid_stage_options(params()));
     }
     Footprint footprint() const override {
@@ -104,6 +104,8 @@ protected:
             return;
         }
         const Shape& s = input.shape();
+        // The renderer's passes, read and checked before any work, used or not.
+        const GuidePasses passes = guide_passes(*this, input, params());
         const TemporalSetup setup = temporal_setup(params(), input);
         // One basis serves alpha and, when nothing moves, the reconstruction itself.
         PreparedSeries series(input, ChannelSelection::all(s), setup.prep, setup.budget_bytes, 2);
@@ -111,8 +113,8 @@ protected:
         MotionMaps maps;
         maps.alpha = compute_alpha(series, basis, params(), {progress, 0.2, 0.1, "motion"});
         // Where things move: alpha, the temporal-change test and the renderer's vectors when given.
-        const Sequence* vectors = this->input("vectors");
-        const auto weight = moving_weight(input, *maps.alpha, vectors, params());
+        const Sequence* vectors = passes.vectors;
+        const auto weight = moving_weight(input, *maps.alpha, passes, params());
         const double moving = mean_of_map(*weight);
         mutable_results().set("motion_fraction", moving);
         mutable_results().set_image("alpha", maps.alpha);
@@ -127,10 +129,10 @@ protected:
             return;
         }
         if (params().get_string("motion_compensation") == "auto") {
-            run_motion_compensated(input, output, *weight, vectors, progress);
+            run_motion_compensated(input, output, *weight, passes, progress);
             return;
         }
-        compute_beta(input, params(), maps);
+        compute_beta(input, passes, params(), maps);
 
         Sequence base(s);
         run_temporal(input, base, {progress, 0.3, 0.3, "temporal"});
@@ -187,8 +189,9 @@ private:
 
     // I_T where nothing moves, the motion-compensated average where things move (`moving`, 1 = moving),
     // aligned along the renderer's vectors when given, else along optical flow.
-    void run_motion_compensated(const Sequence& input, Sequence& output, const Sequence& moving_map, const Sequence* vectors,
-                                const Progress& progress) {
+    void run_motion_compensated(const Sequence& input, Sequence& output, const Sequence& moving_map,
+                                const GuidePasses& guides, const Progress& progress) {
+        const Sequence* vectors = guides.vectors;
         const Shape& s = input.shape();
         run_temporal(input, output, {progress, 0.3, 0.15, "temporal"});
         // The first pass the warped samples are checked against: I_T with the light diffusion pass.
@@ -201,11 +204,8 @@ private:
             progress.report(0.45 + 0.05 * f, "first pass");
             return true;
         }));
-        const std::string albedo = params().get_string("albedo"), normal = params().get_string("normal");
         // The passes guide the flow; with the renderer's vectors there is no flow to guide.
-        const auto albedo_pass = albedo.empty() || vectors ? nullptr : read_pass(input, albedo);
-        const auto normal_pass = normal.empty() || vectors ? nullptr : read_pass(input, normal);
-        const auto passes = albedo_pass || normal_pass ? make_pass_guide(albedo_pass.get(), normal_pass.get()) : nullptr;
+        const auto passes = guides.surfaces() && !vectors ? make_pass_guide(guides.albedo, guides.normal) : nullptr;
         // The moving weight, grown by a max filter: alpha is pooled over a box and ramps, so
         // along the rim of a moving region the temporal filter would keep part of the weight, and
         // there its per-pixel ranks keep the motion's noise (dark and bright speckles at 4 spp).

@@ -70,8 +70,8 @@ HybridStageOptions hybrid_stage_options(const ParamSet& p) {
     return o;
 }
 
-bool hybrid_streams(const ParamSet& p, bool has_vectors) {
-    return p.get_string("motion_compensation") == "auto" && p.get_int("shared_basis") == 1 && !has_vectors &&
+bool hybrid_streams(const ParamSet& p, bool names_passes) {
+    return p.get_string("motion_compensation") == "auto" && p.get_int("shared_basis") == 1 && !names_passes &&
            p.get_string("albedo").empty() && p.get_string("normal").empty();
 }
 

@@ -37,7 +37,7 @@ struct HybridStageOptions {
 HybridStageOptions hybrid_stage_options(const ParamSet& hybrid_params);
 // Whether the hybrid with these parameters streams: motion compensation on, one shared basis, and no
 // renderer pass (albedo, normal, vectors) to read alongside, which still run in memory.
-bool hybrid_streams(const ParamSet& hybrid_params, bool has_vectors);
+bool hybrid_streams(const ParamSet& hybrid_params, bool names_passes);
 
 class HybridStage final : public StreamStage {
 public:

@@ -52,7 +52,48 @@ std::unique_ptr<Sequence> read_pass(const Sequence& input, const std::string& pa
     return aux;
 }
 
-std::shared_ptr<Sequence> moving_weight(const Sequence& input, const Sequence& alpha, const Sequence* vectors,
+namespace {
+
+void check_pass(const Sequence& input, const Sequence& pass, const std::string& what) {
+    const Shape& a = pass.shape();
+    const Shape& s = input.shape();
+    if (a.frames != s.frames || a.width != s.width || a.height != s.height)
+        throw Error(Status::InvalidArgument, what + " is " + to_string(a) + ", the input " + to_string(s));
+}
+
+}  // namespace
+
+bool names_guide_passes(const Filter& filter, const ParamSet& params) {
+    for (const char* name : {"albedo", "normal", "vectors"})
+        if (filter.input(name)) return true;
+    return !params.get_string("albedo").empty() || !params.get_string("normal").empty();
+}
+
+GuidePasses guide_passes(const Filter& filter, const Sequence& input, const ParamSet& params) {
+    GuidePasses g;
+    g.albedo = filter.input("albedo");
+    g.normal = filter.input("normal");
+    g.vectors = filter.input("vectors");
+    if (!g.albedo && !params.get_string("albedo").empty()) {
+        g.read_albedo = read_pass(input, params.get_string("albedo"));
+        g.albedo = g.read_albedo.get();
+    }
+    if (!g.normal && !params.get_string("normal").empty()) {
+        g.read_normal = read_pass(input, params.get_string("normal"));
+        g.normal = g.read_normal.get();
+    }
+    if (g.albedo) check_pass(input, *g.albedo, "the albedo pass");
+    if (g.normal) check_pass(input, *g.normal, "the normal pass");
+    if (g.vectors) {
+        check_pass(input, *g.vectors, "the motion vectors");
+        if (g.vectors->shape().channels < 4)
+            throw Error(Status::InvalidArgument, "the motion vectors are " + to_string(g.vectors->shape()) +
+                                                     ": expected 4 channels (X, Y, Z, W)");
+    }
+    return g;
+}
+
+std::shared_ptr<Sequence> moving_weight(const Sequence& input, const Sequence& alpha, const GuidePasses& passes,
                                         const ParamSet& params) {
     const Shape& s = input.shape();
     auto weight = std::make_shared<Sequence>(alpha.shape());
@@ -67,22 +108,16 @@ std::shared_ptr<Sequence> moving_weight(const Sequence& input, const Sequence& a
     }
     // The renderer's albedo/normal passes change exactly where geometry moves, which noise cannot fake:
     // a pixel that departs from its temporal median in any frame (beta from the passes) moves.
-    for (const char* pass : {"albedo", "normal"}) {
-        const std::string pattern = params.get_string(pass);
-        if (pattern.empty()) continue;
-        const auto beta = local_motion_from_aux(*read_pass(input, pattern), params.get_float("aux_threshold"), 0);
+    for (const Sequence* pass : {passes.albedo, passes.normal}) {
+        if (!pass) continue;
+        const auto beta = local_motion_from_aux(*pass, params.get_float("aux_threshold"), 0);
         for (int64_t f = 0; f < s.frames; ++f)
             for (int64_t y = 0; y < s.height; ++y)
                 for (int64_t x = 0; x < s.width; ++x)
                     weight->at(0, y, x, 0) = std::max(weight->at(0, y, x, 0), beta->at(f, y, x, 0));
     }
     const double drift = params.get_float("vector_drift");
-    if (vectors) {
-        const Shape& v = vectors->shape();
-        if (v.frames != s.frames || v.height != s.height || v.width != s.width)
-            throw Error(Status::InvalidArgument, "the motion vectors are " + to_string(v) + ", the input " + to_string(s));
-        if (drift > 0) combine_max(*weight, *motion_from_vectors(*vectors, drift));
-    }
+    if (passes.vectors && drift > 0) combine_max(*weight, *motion_from_vectors(*passes.vectors, drift));
     return weight;
 }
 
@@ -104,18 +139,16 @@ std::shared_ptr<Sequence> compute_alpha(PreparedSeries& series, const TemporalBa
     return global_motion_map(series, basis, rank.noise_sigma, g, progress);
 }
 
-void compute_beta(const Sequence& input, const ParamSet& params, MotionMaps& maps) {
-    const std::string albedo = params.get_string("albedo"), normal = params.get_string("normal");
+void compute_beta(const Sequence& input, const GuidePasses& passes, const ParamSet& params, MotionMaps& maps) {
     std::string source = params.get_string("beta_source");
-    if (source == "auto") source = albedo.empty() && normal.empty() ? "zscore" : "aux";
+    if (source == "auto") source = passes.surfaces() ? "aux" : "zscore";
     const int dilate = static_cast<int>(params.get_int("dilate"));
     if (source == "aux") {
-        if (albedo.empty() && normal.empty())
-            throw Error(Status::InvalidArgument, "beta_source=aux needs an albedo or normal pass");
+        if (!passes.surfaces()) throw Error(Status::InvalidArgument, "beta_source=aux needs an albedo or normal pass");
         const double threshold = params.get_float("aux_threshold");
-        for (const std::string& pattern : {albedo, normal}) {
-            if (pattern.empty()) continue;
-            auto beta = local_motion_from_aux(*read_pass(input, pattern), threshold, dilate);
+        for (const Sequence* pass : {passes.albedo, passes.normal}) {
+            if (!pass) continue;
+            auto beta = local_motion_from_aux(*pass, threshold, dilate);
             if (maps.beta) {
                 combine_max(*maps.beta, *beta);
             } else {
@@ -141,10 +174,11 @@ std::shared_ptr<Sequence> compute_alpha(const Sequence& input, const ParamSet& p
                          {progress.progress, progress.start + progress.span / 2, progress.span / 2, "motion"});
 }
 
-MotionMaps compute_motion(const Sequence& input, const ParamSet& params, const ProgressSpan& progress) {
+MotionMaps compute_motion(const Sequence& input, const GuidePasses& passes, const ParamSet& params,
+                          const ProgressSpan& progress) {
     MotionMaps maps;
     maps.alpha = compute_alpha(input, params, {progress.progress, progress.start, progress.span * 2 / 3, "motion"});
-    compute_beta(input, params, maps);
+    compute_beta(input, passes, params, maps);
     progress.report(1.0);
     return maps;
 }

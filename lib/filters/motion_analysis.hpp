@@ -17,8 +17,24 @@ struct MotionMaps {
     std::string beta_source;          // "zscore" or "aux"
 };
 
+// The renderer's passes a filter is given, each for the input's frames and size: as named inputs
+// (sequences the caller holds: "albedo", "normal", "vectors"), or, for albedo and normal, as file
+// patterns in the parameters, read once here. Resolved (read and checked) before any work, whether
+// the scene then needs them or not: a named pass that is missing or does not match is an error.
+struct GuidePasses {
+    const Sequence* albedo = nullptr;
+    const Sequence* normal = nullptr;
+    const Sequence* vectors = nullptr;
+    std::shared_ptr<const Sequence> read_albedo, read_normal;  // those read from patterns
+    bool surfaces() const { return albedo || normal; }
+};
+GuidePasses guide_passes(const Filter& filter, const Sequence& input, const ParamSet& params);
+// Whether any pass is named, without reading it (for the choice of streaming).
+bool names_guide_passes(const Filter& filter, const ParamSet& params);
+
 // Uses the temporal parameters (transform, nonfinite, shared_basis, memory_mb) and motion_params().
-MotionMaps compute_motion(const Sequence& input, const ParamSet& params, const ProgressSpan& progress);
+MotionMaps compute_motion(const Sequence& input, const GuidePasses& passes, const ParamSet& params,
+                          const ProgressSpan& progress);
 
 // alpha alone (no beta), e.g. to decide whether anything moves at all.
 std::shared_ptr<Sequence> compute_alpha(const Sequence& input, const ParamSet& params, const ProgressSpan& progress);
@@ -26,13 +42,13 @@ std::shared_ptr<Sequence> compute_alpha(const Sequence& input, const ParamSet& p
 // The two stages, for a caller that already has the series and their basis (the hybrid).
 std::shared_ptr<Sequence> compute_alpha(PreparedSeries& series, const TemporalBasis& basis, const ParamSet& params,
                                         const ProgressSpan& progress);
-void compute_beta(const Sequence& input, const ParamSet& params, MotionMaps& maps);
+void compute_beta(const Sequence& input, const GuidePasses& passes, const ParamSet& params, MotionMaps& maps);
 
 // The share of each pixel that moves, 1-frame, 1-channel: 1 - alpha, raised to 1 where the temporal-
 // change test (change_z > 0), the albedo/normal passes (beta from them, in any frame) or the
 // renderer's motion vectors (when given) say the pixel moves. The
 // still/moving decisions of the hybrid and of auto and the hybrid's motion-compensated region use it.
-std::shared_ptr<Sequence> moving_weight(const Sequence& input, const Sequence& alpha, const Sequence* vectors,
+std::shared_ptr<Sequence> moving_weight(const Sequence& input, const Sequence& alpha, const GuidePasses& passes,
                                         const ParamSet& params);
 
 // A renderer pass (albedo, normal) for the input's frames, read from a file pattern; its frames and

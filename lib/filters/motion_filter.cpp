@@ -18,6 +18,7 @@ double mean_of(const Sequence& s) {
 class MotionFilter final : public Filter {
 public:
     MotionFilter() : Filter(make_params()) {
+        for (const char* pass : {"albedo", "normal"}) accept_input(pass);
         declare_image_result("alpha");
         declare_image_result("beta");
     }
@@ -30,7 +31,7 @@ public:
 
 protected:
     void run(const Sequence& input, Sequence& output, const Progress& progress) override {
-        const MotionMaps maps = compute_motion(input, params(), {progress, 0.0, 1.0, "motion"});
+        const MotionMaps maps = compute_motion(input, guide_passes(*this, input, params()), params(), {progress, 0.0, 1.0, "motion"});
         output.copy_samples_from(input);
         mutable_results().set("moving_fraction", 1.0 - mean_of(*maps.alpha));
         mutable_results().set("beta_fraction", mean_of(*maps.beta));

@@ -127,3 +127,43 @@ def test_quality_presets_through_the_auto_filter(rng):
     assert isinstance(fast.results["pca.rank"], float) and fast.results["pca.rank"] >= 0
     with pytest.raises(statfilter.InvalidArgumentError, match="balanced"):
         statfilter.Filter("auto", quality="best")
+
+
+def moving_scene(rng, frames=12, height=24, width=32):
+    """Noisy light on a wall with a bright square crossing it, and the matching albedo pass (the
+    square's colour where it is, the wall's elsewhere): what the renderer hands the hybrid."""
+    base = np.full((frames, height, width, 3), 0.5, np.float32)
+    albedo = np.full_like(base, 0.8)
+    for f in range(frames):
+        x0 = 2 + 2 * f
+        base[f, 8:16, x0:x0 + 6] = 2.0
+        albedo[f, 8:16, x0:x0 + 6] = 0.3
+    noisy = (base * (1 + 0.2 * rng.standard_normal(base.shape))).astype(np.float32)
+    return noisy, albedo
+
+
+def test_guide_passes_handed_in_memory_equal_the_same_passes_from_files(rng, tmp_path):
+    """The albedo pass as a named input (an array) gives what the same pass read from files gives."""
+    noisy, albedo = moving_scene(rng)
+    statfilter.write_sequence(str(tmp_path / "albedo.####.exr"), albedo, pixel_type="float")
+    from_memory = statfilter.Filter("hybrid")
+    a = from_memory(noisy, inputs={"albedo": albedo})
+    from_files = statfilter.Filter("hybrid", albedo=str(tmp_path / "albedo.####.exr"))
+    b = from_files(noisy)
+    np.testing.assert_array_equal(a, b)
+    assert from_memory.results["motion_compensation"] == "optical flow on the albedo/normal passes"
+    # balanced measures the motion with them too, and says the scene moves.
+    balanced = statfilter.Filter("auto")
+    balanced(noisy, inputs={"albedo": albedo})
+    assert balanced.results["motion_fraction"] > 0
+
+
+def test_a_named_guide_pass_is_checked_even_where_the_scene_does_not_need_it(rng, tmp_path):
+    """A still scene needs no pass, but a pass that is named and missing, or of the wrong size, is an
+    error before any work, not a silent success."""
+    still = (0.5 * (1 + 0.1 * rng.standard_normal((12, 16, 20, 3)))).astype(np.float32)
+    for name in ("hybrid", "auto", "motion"):
+        with pytest.raises(statfilter.Error, match="missing.####.exr|missing"):
+            statfilter.Filter(name, albedo=str(tmp_path / "missing.####.exr"))(still)
+        with pytest.raises(statfilter.InvalidArgumentError, match="albedo pass"):
+            statfilter.Filter(name)(still, inputs={"albedo": np.zeros((12, 8, 20, 3), np.float32)})
