@@ -35,7 +35,7 @@ struct Shot {
     TempDir dir;
     std::string in;
     sf_shape shape;
-    explicit Shot(sf_shape s = shape_of(48, 40, 32, 3), float (*value)(int64_t, int64_t, int64_t, int64_t) = low_rank_value)
+    explicit Shot(sf_shape s = shape_of(24, 40, 32, 3), float (*value)(int64_t, int64_t, int64_t, int64_t) = low_rank_value)
         : in(dir.file("in.####.exr")), shape(s) {
         Seq seq = filled_sequence(shape, value);
         const sf_write_options o = write_options(SF_PIXEL_FLOAT);
@@ -161,7 +161,7 @@ TEST(Streaming, StreamedEqualsInMemoryAtABudgetThatForcesManyBands) {
 // summed band by band moves the last bits of the basis, and where that moves a first-pass value
 // across a step of the flow's 8-bit image the flow moves a little.
 TEST(Streaming, HybridAndBalancedStreamedMatchInMemoryAtManyBands) {
-    Shot moving(shape_of(48, 48, 40, 3), moving_value), still(shape_of(48, 48, 40, 3), still_value);
+    Shot moving(shape_of(32, 40, 32, 3), moving_value), still(shape_of(32, 40, 32, 3), still_value);
     struct Run {
         const Shot& shot;
         std::string name;
