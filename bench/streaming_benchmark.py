@@ -129,7 +129,7 @@ def report(results, command):
                   + (f", `--memory {shot['memory']}`" if shot["memory"] else ", default memory budget"), "",
                   "| run | threads | wall s | CPU s | peak RSS | / I/O floor | note |", "|---|---|---|---|---|---|---|"]
         for r in shot["rows"]:
-            note = r.get("error", "")[:160].replace("|", "/")
+            note = (r.get("error") or r.get("note", ""))[:160].replace("|", "/")
             lines.append(f"| {r['config']} | {r['threads'] or ''} | {r['wall']:.1f} | {r['cpu']:.1f} | "
                          f"{r['rss'] / 2**30:.2f} GiB | {r['ratio_to_floor']:.2f}x | {note} |")
         by = {(r["config"], r["threads"]): r for r in shot["rows"]}
