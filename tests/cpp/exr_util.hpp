@@ -5,9 +5,11 @@
 #include <OpenImageIO/imageio.h>
 
 #include <stdexcept>
+#include <utility>
 #include <string>
 #include <vector>
 
+#include "statfilter/error.hpp"
 #include "test_util.hpp"
 
 namespace statfilter_test {
@@ -86,6 +88,17 @@ inline ExrImage read_exr(const std::string& path, int subimage = 0) {
     if (!in->read_image(subimage, 0, 0, image.spec.nchannels, OIIO::TypeDesc::FLOAT, image.pixels.data()))
         throw std::runtime_error("read_exr '" + path + "': " + in->geterror());
     return image;
+}
+
+// The status and message read_sequence/write_sequence throw (Ok and "" when they do not).
+template <class Body>
+std::pair<statfilter::Status, std::string> error_of(Body&& body) {
+    try {
+        body();
+    } catch (const statfilter::Error& e) {
+        return {e.status(), e.what()};
+    }
+    return {statfilter::Status::Ok, ""};
 }
 
 }  // namespace statfilter_test

@@ -33,15 +33,6 @@ ReadOptions channels(const std::string& list) {
     return o;
 }
 
-template <class Body>
-std::pair<Status, std::string> error_of(Body&& body) {
-    try {
-        body();
-    } catch (const Error& e) {
-        return {e.status(), e.what()};
-    }
-    return {Status::Ok, ""};
-}
 
 // Copies a sequence through the streamed source and sink, reading each frame in two bands.
 void stream_copy(const std::string& in, const std::string& out, const ReadOptions& read = ReadOptions()) {

@@ -56,16 +56,6 @@ void expect_samples(const Sequence& a, const Sequence& b, Expected&& expected) {
                         << " -> " << b.at(f, y, x, c);
 }
 
-// The status and message read_sequence/write_sequence throw (Ok and "" when they do not).
-template <class Body>
-std::pair<Status, std::string> error_of(Body&& body) {
-    try {
-        body();
-    } catch (const Error& e) {
-        return {e.status(), e.what()};
-    }
-    return {Status::Ok, ""};
-}
 
 ReadOptions channels(const std::string& list) {
     ReadOptions o;
