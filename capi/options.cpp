@@ -39,6 +39,7 @@ WriteOptions write_options_from(const sf_write_options* options) {
     wo.color = color_of(o.ocio_config, o.colorspace_in, o.colorspace_out);
     wo.clamp_half = o.half_overflow != 0;
     wo.tile_size = o.tile_size;
+    wo.into = o.into != 0;
     wo.progress = make_progress(o.progress, o.progress_user);
     return wo;
 }

@@ -492,6 +492,14 @@ std::vector<std::string> select_file_channels(const std::string& path, const std
     return out;
 }
 
+std::vector<FileChannelRef> locate_file_channels(const std::string& path, const std::string& channels) {
+    auto in = open_image(path);
+    std::vector<FileChannelRef> out;
+    for (const Selected& sel : select_channels(read_layout(*in, path), channels, path))
+        out.push_back({sel.source.subimage, sel.source.name});
+    return out;
+}
+
 std::unique_ptr<Sequence> read_sequence(const std::string& pattern_text, const ReadOptions& options) {
     const FramePattern pattern(pattern_text);
     if (!options.frames.empty()) check_frames_exist(pattern, resolve_frames(pattern, options.frames));

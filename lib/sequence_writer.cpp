@@ -18,6 +18,7 @@
 
 #include "pipeline/frame_source.hpp"
 #include "statfilter/color_convert.hpp"
+#include "statfilter/exr_into.hpp"
 #include "statfilter/error.hpp"
 #include "statfilter/frame_metadata.hpp"
 #include "statfilter/frame_pattern.hpp"
@@ -139,6 +140,53 @@ std::string write_temporary(const std::string& path, const float* pixels, const 
     return tmp;
 }
 
+// Frame f as a copy of the file it was read from, its channels put back, in a temporary file beside
+// its final name; returns that file's name.
+std::string write_into_temporary(const std::string& path, const float* pixels, const Sequence& attributes, int64_t f,
+                                 const WriteOptions& options,
+                                 const std::vector<std::pair<std::string, std::string>>& extra) {
+    const std::string source = FramePattern(attributes.source().pattern).format(attributes.frame_numbers()[f]);
+    IntoFrame frame;
+    frame.pixels = pixels;
+    frame.window = attributes.metadata()[f].window;
+    frame.targets = locate_file_channels(source, attributes.source().channels);
+    const std::string tmp = temporary_name(path);
+    try {
+        write_into_copy(source, tmp, frame, extra, options.clamp_half);
+    } catch (...) {
+        std::error_code ec;
+        fs::remove(tmp, ec);
+        throw;
+    }
+    return tmp;
+}
+
+// Into mode: the frames must have come from EXR files, at the size they were read, and their
+// channels must be able to go back (checked on the first frame, before any work).
+void check_into(const Sequence& attributes, const Shape& shape, const WriteOptions& options, const FramePattern& pattern) {
+    if (attributes.source().pattern.empty())
+        throw Error(Status::InvalidArgument, "writing into copies of the input needs frames read from EXR files");
+    if (options.tile_size > 0)
+        throw Error(Status::InvalidArgument, "writing into copies of the input keeps each part's own tiling: "
+                                             "a tile size does not apply");
+    std::string ext = fs::path(pattern.text()).extension().string();
+    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+    if (ext != ".exr")
+        throw Error(Status::InvalidArgument, "output '" + pattern.text() + "': copies of EXR frames are EXR files (.exr)");
+    const FrameMetadata& md = attributes.metadata().front();
+    if (md.window.width != shape.width || md.window.height != shape.height)
+        throw Error(Status::InvalidArgument, "the frames are not the size they were read at: they cannot go back into "
+                                             "copies of their files");
+    const std::string source = FramePattern(attributes.source().pattern).format(attributes.frame_numbers().front());
+    IntoFrame frame;
+    frame.window = md.window;
+    frame.targets = locate_file_channels(source, attributes.source().channels);
+    if (static_cast<int64_t>(frame.targets.size()) != shape.channels)
+        throw Error(Status::InvalidArgument, "'" + source + "' gives " + std::to_string(frame.targets.size()) +
+                                                 " channels for the " + std::to_string(shape.channels) + " of the output");
+    check_into_source(source, frame);
+}
+
 // The EXR writer as a sink. Checked at construction, before any work: the pattern, compression,
 // colour conversion, frame numbers, the directory (created when missing), that the output is not the
 // input (unless overwrite), and that no other run writes it (a lock file beside the frames). Frames
@@ -166,6 +214,7 @@ public:
                                                      std::to_string(*std::adjacent_find(numbers.begin(), numbers.end())) +
                                                      " appears twice: each frame needs its own file");
         check_color_conversion(options.color, shape_.channels);
+        if (options.into && frames > 0) check_into(attributes, shape_, options, pattern_);
         for (int64_t f = 0; f < frames; ++f) paths_.push_back(pattern_.format(attributes.frame_numbers()[f]));
         dir_ = fs::path(paths_.front()).parent_path();
         if (dir_.empty()) dir_ = ".";
@@ -195,7 +244,7 @@ public:
         const size_t count = static_cast<size_t>(shape_.pixels() * shape_.channels);
         std::vector<float> frame(pixels, pixels + count);
         convert_colors(frame.data(), shape_.width, shape_.height, shape_.channels, options_.color);
-        if (options_.half) {
+        if (options_.half && !options_.into) {  // into: each channel in its file's type, checked there
             if (options_.clamp_half) {
                 for (float& v : frame)
                     if (std::isfinite(v)) v = std::max(-kHalfMax, std::min(kHalfMax, v));
@@ -208,8 +257,10 @@ public:
             std::lock_guard<std::mutex> lock(mutex_);
             extra = extra_;
         }
-        temporaries_[static_cast<size_t>(f)] = write_temporary(paths_[static_cast<size_t>(f)], frame.data(), attributes_, f,
-                                                               shape_, options_, extra);
+        const std::string& path = paths_[static_cast<size_t>(f)];
+        temporaries_[static_cast<size_t>(f)] =
+            options_.into ? write_into_temporary(path, frame.data(), attributes_, f, options_, extra)
+                          : write_temporary(path, frame.data(), attributes_, f, shape_, options_, extra);
     }
 
     void set_attribute(const std::string& name, const std::string& value) override {

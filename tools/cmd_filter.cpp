@@ -62,9 +62,25 @@ sf_run_options run_options(const Args& args) {
     return run;
 }
 
+// OUT, or --into PATTERN: copies of the input frames with the filtered channels put back.
+std::string output_pattern(const Args& args) {
+    if (!args.has("into")) {
+        if (args.positionals().size() != 2) throw UsageError("expected IN and OUT patterns (see --help)");
+        return args.positionals()[1];
+    }
+    if (args.positionals().size() != 1)
+        throw UsageError("with --into give only IN: --into PATTERN is the output");
+    for (const char* option : {"float", "compression", "tiled"})
+        if (args.flag(option) || args.has(option))
+            throw UsageError(std::string("--into keeps each part's own pixel types, compression and tiling: --") +
+                             option + " does not apply");
+    if (args.option("into").empty()) throw UsageError("--into needs an output pattern");
+    return args.option("into");
+}
+
 int run_filter(const Args& args, const std::string& method) {
-    if (args.positionals().size() != 2) throw UsageError("expected IN and OUT patterns (see --help)");
-    const std::string in = args.positionals()[0], out = args.positionals()[1];
+    if (args.positionals().empty()) throw UsageError("expected IN and OUT patterns (see --help)");
+    const std::string in = args.positionals()[0], out = output_pattern(args);
     check_exr_output(out);
     const auto saves = parse_save_list(args.option("save"));  // checked before any work
     sf_run_options run = run_options(args);
@@ -92,6 +108,7 @@ int run_filter(const Args& args, const std::string& method) {
     const auto start = std::chrono::steady_clock::now();
     ProgressLine progress(args.flag("quiet"));
     IoSettings io(args);
+    io.write.into = args.has("into") ? 1 : 0;
     run.progress = &ProgressLine::callback;
     run.progress_user = &progress;
     // Reads, filters and writes, streamed where the method allows; everything checked before any work.
@@ -136,20 +153,22 @@ int run_filter(const Args& args, const std::string& method) {
 }
 
 const std::set<std::string> kFlags = {"float", "clamp-half", "json", "quiet", "help", "overwrite"};
-const std::set<std::string> kRunOptions = {"memory", "threads"};
+const std::set<std::string> kRunOptions = {"memory", "threads", "into"};
 const char* const kRunHelp =
     "run:\n"
     "  --memory SIZE           memory budget, e.g. 512M or 6G (default: half of physical memory); a run\n"
     "                          that cannot fit is refused before any work, naming the size it needs\n"
     "  --threads N             threads (default 0: every core)\n"
-    "  --overwrite             let OUT replace frames of IN (refused otherwise)\n";
+    "  --overwrite             let OUT replace frames of IN (refused otherwise)\n"
+    "  --into PATTERN          instead of OUT: write each frame into a copy of its input file, the filtered\n"
+    "                          channels in place, every other part, channel and header kept as it was\n";
 
 }  // namespace
 
 int cmd_copy(int argc, char** argv) {
     const Args args(argc, argv, 2, kFlags, merged({kInputOptions, kOutputOptions, kRunOptions}), {});
     if (args.flag("help")) {
-        std::printf("usage: statfilter copy IN OUT [options]\n\nReads a sequence and writes it unchanged through the "
+        std::printf("usage: statfilter copy IN OUT|--into PATTERN [options]\n\nReads a sequence and writes it unchanged through the "
                     "filter path (bit-exact with --float).\n\n%s\n%s\n%s  --json, --quiet\n", kInputHelp, kOutputHelp, kRunHelp);
         return 0;
     }
@@ -159,7 +178,7 @@ int cmd_copy(int argc, char** argv) {
 int cmd_denoise(int argc, char** argv) {
     const Args args(argc, argv, 2, kFlags, merged({kInputOptions, kOutputOptions, kRunOptions, {"method", "save", "vectors"}}));
     if (args.flag("help")) {
-        std::printf("usage: statfilter denoise IN OUT [--quality fast|balanced|high | --method NAME] [--PARAM VALUE ...]\n"
+        std::printf("usage: statfilter denoise IN OUT|--into PATTERN [--quality fast|balanced|high | --method NAME] [--PARAM VALUE ...]\n"
                     "                           [options]\n\n"
                     "Filters a frame sequence. --quality picks the method for the scene (it is the parameter of\n"
                     "method auto; docs/benchmarks.md has the speed/accuracy map behind it). Without --method the\n"

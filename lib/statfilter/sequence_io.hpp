@@ -35,6 +35,10 @@ struct WriteOptions {
     ColorConversion color;
     bool clamp_half = false;  // false: a finite value beyond half's range is an error
     int tile_size = 0;        // 0 = scanlines; N = N x N tiles
+    // Each frame a copy of the file it was read from with the channels put back in place, every other
+    // part and channel and every header kept (statfilter/exr_into.hpp); pixel types, compression and
+    // tiling are then the file's own.
+    bool into = false;
     Progress progress;
 };
 
@@ -49,6 +53,13 @@ struct OutputChecks {
 bool is_light_channel(const std::string& channel);
 // The channels of one file (as named there) that ReadOptions::channels takes, in order.
 std::vector<std::string> select_file_channels(const std::string& path, const std::string& channels);
+// Where one channel of a sequence lives in its file: the part (OpenImageIO subimage) and its name there.
+struct FileChannelRef {
+    int part = 0;
+    std::string name;
+};
+// The same channels with their parts.
+std::vector<FileChannelRef> locate_file_channels(const std::string& path, const std::string& channels);
 
 std::unique_ptr<Sequence> read_sequence(const std::string& pattern, const ReadOptions& options);
 // The same sequence opened for reading in pieces (pipeline/frame_source.hpp): every frame's header is

@@ -102,7 +102,8 @@ class sf_write_options(Structure):
                 ("half_overflow", c_int),
                 ("progress", sf_progress_callback),
                 ("progress_user", c_void_p),
-                ("tile_size", c_int)]
+                ("tile_size", c_int),
+                ("into", c_int)]
 
 
 class sf_param_info(Structure):

@@ -290,7 +290,7 @@ class Filter(OwnsHandle):
     def run_files(self, input_pattern: Pattern, output_pattern: Pattern, memory: Union[int, str, None] = None,
                   threads: int = 0, overwrite: bool = False, channels: Optional[Channels] = None,
                   frames: Optional[Frames] = None, pixel_type: str = "half", compression: str = "zip",
-                  progress: Optional[ProgressCallback] = None) -> Dict[str, Any]:
+                  progress: Optional[ProgressCallback] = None, into: bool = False) -> Dict[str, Any]:
         """Run the filter from one EXR frame sequence to another without holding the shot in memory
         where the filter allows it (pca and error-threshold stream; see docs/architecture.md).
 
@@ -299,6 +299,9 @@ class Filter(OwnsHandle):
         threads:   0 (default) = every core.
         overwrite: allow the output to replace frames of the input (refused otherwise).
         channels, frames: as read_sequence; pixel_type, compression: as write_sequence.
+        into:      write each frame into a copy of its input file instead: the filtered channels in
+                   place (in the file's own pixel types, compression and tiling), every other part,
+                   channel and header kept as it was.
         Everything is checked before the first pixel is read; frames appear together at the end.
         """
         from . import sequence as _sequence
@@ -318,6 +321,7 @@ class Filter(OwnsHandle):
             run.progress = adapter.c_function
         read, keep_read = _sequence._read_options(channels, frames)
         write, keep_write = _sequence._write_options(pixel_type, compression)
+        write.into = 1 if into else 0
         self.results = {}
         status = _capi.lib.sf_filter_run(handle, _capi.encode_path(input_pattern), ctypes.byref(read),
                                          _capi.encode_path(output_pattern), ctypes.byref(write), ctypes.byref(run))

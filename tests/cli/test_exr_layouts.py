@@ -72,3 +72,38 @@ def test_tiled_output_on_request(tmp_path):
     bad = run("denoise", tmp_path / "in.0001.exr", tmp_path / "bad.0001.exr", "--method", "copy", "--tiled", "x",
               check_rc=2)
     assert "--tiled" in bad.stderr
+
+
+def two_part_frames(tmp_path, frames=3):
+    """Frames of two parts: the light pass, then normals (which a renderer's compositor still needs)."""
+    light = ",".join(f"{LAYERS[1]}.{c}" for c in "RGB")
+    for f in range(1, frames + 1):
+        oiiotool("--create", "32x24", "3", "--fill:color=0.5,0.2,0.%d" % f, "32x24", "--attrib", "cycles.samples", "16",
+                 "--chnames", light, "-o", tmp_path / "light.exr")
+        oiiotool("--create", "32x24", "3", "--fill:color=0.1,0.9,0.%d" % f, "32x24",
+                 "--chnames", "ViewLayer.Normal.X,ViewLayer.Normal.Y,ViewLayer.Normal.Z", "-o", tmp_path / "normal.exr")
+        oiiotool(tmp_path / "light.exr", tmp_path / "normal.exr", "--siappend", "-o", tmp_path / ("in.%04d.exr" % f))
+    return tmp_path / "in.####.exr"
+
+
+def test_into_writes_the_light_back_beside_the_untouched_parts(tmp_path):
+    pattern = two_part_frames(tmp_path)
+    run("denoise", pattern, "--into", tmp_path / "out" / "into.####.exr", "--method", "pca", "--rank", "1", "-q")
+    text = subprocess.run([oiio_tool("oiiotool"), "--info", "-v", "-a", tmp_path / "out" / "into.0002.exr"],
+                          check=True, capture_output=True, text=True).stdout
+    assert "2 subimages" in text and "cycles.samples: 16" in text and 'statfilter:filter: "pca"' in text
+    assert "ViewLayer.Normal.X" in text
+    same = subprocess.run([oiio_tool("oiiotool"), "-a", tmp_path / "in.0002.exr", "--subimage", "1",
+                           tmp_path / "out" / "into.0002.exr", "--subimage", "1", "--diff"],
+                          capture_output=True, text=True)
+    assert same.returncode == 0 and "PASS" in same.stdout, same.stdout + same.stderr
+
+
+def test_into_refuses_what_it_cannot_honour(tmp_path):
+    pattern = two_part_frames(tmp_path, frames=2)
+    out = tmp_path / "out" / "into.####.exr"
+    for extra, words in ((["--float"], "--float does not apply"), (["--tiled", "16"], "--tiled does not apply"),
+                         ([tmp_path / "o.####.exr"], "give only IN")):
+        bad = run("denoise", pattern, "--into", out, "--method", "copy", *extra, check_rc=2)
+        assert words in bad.stderr, bad.stderr
+    assert not (tmp_path / "out").exists()

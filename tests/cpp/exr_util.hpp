@@ -9,7 +9,6 @@
 #include <string>
 #include <vector>
 
-#include "statfilter/error.hpp"
 #include "test_util.hpp"
 
 namespace statfilter_test {
@@ -23,6 +22,7 @@ struct ExrPart {
     // 0 = the whole display window.
     int x = 0, y = 0, data_width = 0, data_height = 0;
     std::vector<std::pair<std::string, std::string>> attributes = {};  // header attributes, as text
+    std::string compression = "";  // empty = the file's
 };
 
 // Pixels of a frame of the given size, from sample_value() shifted by `offset`.
@@ -51,7 +51,7 @@ inline void write_exr(const std::string& path, int width, int height, const std:
         for (const auto& [name, value] : part.attributes) spec.attribute(name, value);
         spec.channelnames = part.channels;
         spec.alpha_channel = -1;
-        spec.attribute("compression", compression);
+        spec.attribute("compression", part.compression.empty() ? compression : part.compression);
         if (!part.name.empty()) spec.attribute("oiio:subimagename", part.name);
         specs.push_back(spec);
     }
@@ -88,17 +88,6 @@ inline ExrImage read_exr(const std::string& path, int subimage = 0) {
     if (!in->read_image(subimage, 0, 0, image.spec.nchannels, OIIO::TypeDesc::FLOAT, image.pixels.data()))
         throw std::runtime_error("read_exr '" + path + "': " + in->geterror());
     return image;
-}
-
-// The status and message read_sequence/write_sequence throw (Ok and "" when they do not).
-template <class Body>
-std::pair<statfilter::Status, std::string> error_of(Body&& body) {
-    try {
-        body();
-    } catch (const statfilter::Error& e) {
-        return {e.status(), e.what()};
-    }
-    return {statfilter::Status::Ok, ""};
 }
 
 }  // namespace statfilter_test

@@ -7,6 +7,7 @@
 
 #include <filesystem>
 
+#include "core_errors.hpp"
 #include "exr_util.hpp"
 #include "pipeline/frame_source.hpp"
 #include "statfilter/error.hpp"

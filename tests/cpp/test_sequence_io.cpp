@@ -11,6 +11,7 @@
 #include <filesystem>
 #include <limits>
 
+#include "core_errors.hpp"
 #include "exr_util.hpp"
 #include "statfilter/error.hpp"
 #include "statfilter/frame_pattern.hpp"

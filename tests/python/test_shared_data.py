@@ -53,3 +53,20 @@ def test_blender_multipart_layer(shared_data):
     assert "ViewLayer.Diffuse Indirect.R" in everything.channel_names
     with pytest.raises(statfilter.NotFoundError, match="ViewLayer.Nope"):
         statfilter.read_sequence(pattern, channels="ViewLayer.Nope")
+
+
+def test_blender_frames_denoised_into_copies_keep_their_other_layers(shared_data, tmp_path):
+    pattern = os.path.join(shared_data, "raw", "cornell_moving_spp0016", "frame.####.exr")
+    if not os.path.exists(statfilter.pattern_format(pattern, 1)):
+        pytest.skip("no %s" % pattern)
+    out = str(tmp_path / "into.####.exr")
+    light = "ViewLayer.Diffuse Indirect"
+    results = statfilter.Filter("pca", rank=2).run_files(pattern, out, channels=light, frames="1-6", into=True)
+    assert results["rank"] == 2
+    for layer in ("ViewLayer.Normal", "ViewLayer.Combined", "ViewLayer.Diffuse Color"):
+        np.testing.assert_array_equal(statfilter.read_sequence(out, channels=layer),
+                                      statfilter.read_sequence(pattern, channels=layer, frames="1-6"), err_msg=layer)
+    before = statfilter.read_sequence(pattern, channels=light, frames="1-6")
+    after = statfilter.read_sequence(out, channels=light)
+    assert after.shape == before.shape and not np.array_equal(after, before)
+    assert abs(after.mean() / before.mean() - 1) < 0.01  # the light kept

@@ -202,6 +202,12 @@ typedef struct sf_write_options {
     sf_progress_callback progress;
     void* progress_user;
     int tile_size;               /* 0 = scanline EXR (default); N = N x N tiles (1..65536) */
+    int into;                    /* 1: each output frame is a copy of the EXR file it was read from
+                                    (every part, header and other channel as it was, untouched parts
+                                    copied bit for bit) with the sequence's channels written back in
+                                    place, each in its file's own pixel type, compression and tiling
+                                    (pixel_type, compression and tile_size do not apply; tile_size must
+                                    be 0). Only for sequences read from files. 0 (default): new files */
 } sf_write_options;
 
 SF_API void sf_write_options_init(sf_write_options* options);
