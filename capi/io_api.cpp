@@ -111,6 +111,31 @@ sf_status sf_sequence_frame_windows(sf_sequence sequence, int64_t frame, sf_wind
     });
 }
 
+sf_status sf_sequence_set_frame_windows(sf_sequence sequence, int64_t frame, const sf_window* data,
+                                        const sf_window* display) {
+    return guarded([&] {
+        Sequence& seq = require_sequence(sequence, "sequence");
+        const Shape& s = seq.shape();
+        if (frame < -1 || frame >= s.frames)
+            throw Error(Status::InvalidArgument, "frame index " + std::to_string(frame) + " is outside 0.." +
+                                                     std::to_string(s.frames - 1) + " (or -1 for every frame)");
+        const sf_window d = require(data, "data");
+        const sf_window shown = display ? *display : d;
+        if (d.width != s.width || d.height != s.height)
+            throw Error(Status::InvalidArgument, "data window " + std::to_string(d.width) + " x " + std::to_string(d.height) +
+                                                     " is not the sequence's size " + std::to_string(s.width) + " x " +
+                                                     std::to_string(s.height));
+        if (shown.width <= 0 || shown.height <= 0)
+            throw Error(Status::InvalidArgument, "the display window must have a positive size");
+        for (int64_t f = frame < 0 ? 0 : frame; f < (frame < 0 ? s.frames : frame + 1); ++f) {
+            FrameMetadata& md = seq.metadata()[static_cast<size_t>(f)];
+            md.window = PixelWindow{d.x, d.y, d.width, d.height};
+            md.display = PixelWindow{shown.x, shown.y, shown.width, shown.height};
+            md.file_data = PixelWindow{};
+        }
+    });
+}
+
 sf_status sf_sequence_write(sf_sequence sequence, const char* pattern, const sf_write_options* options) {
     return guarded([&] {
         Sequence& seq = require_sequence(sequence, "sequence");

@@ -26,6 +26,8 @@ const char* const kUsage =
     "  detect DENOISED     pixel-frames still wrong after denoising: mask, crop windows (--noisy NOISY)\n"
     "  merge DEN RR OUT    splice re-rendered pixels (full frames or crop windows) into the denoised\n"
     "  compare TEST REF    error of a sequence against a reference (relMSE, PSNR, flicker)\n"
+    "  report IN OUT       a review page: before/after, motion and rank maps, error per frame\n"
+    "                      (-o report.html; made by the Python package: statfilter report --help)\n"
     "  plugins             every filter, built-in or plugin: kind, version, origin, parameters\n"
     "  version             print the library version\n"
     "\n"
@@ -51,7 +53,7 @@ int main(int argc, char** argv) {
     const std::map<std::string, int (*)(int, char**)> commands = {
         {"info", cmd_info},       {"copy", cmd_copy},     {"denoise", cmd_denoise}, {"compare", cmd_compare},
         {"plugins", cmd_plugins}, {"motion", cmd_motion}, {"detect", cmd_detect},   {"merge", cmd_merge},
-        {"version", print_version}};
+        {"report", cmd_report},   {"version", print_version}};
     try {
         if (command == "--version") return print_version(argc, argv);
         const auto found = commands.find(command);

@@ -19,13 +19,13 @@ from .errors import (CancelledError, Error, FileError, InternalError, InvalidArg
 from .filter import Filter, filters, plugins, version  # noqa: E402
 from .detect import Detection, crop_windows, detect, merge  # noqa: E402
 from .metrics import compare  # noqa: E402
-from .sequence import SequenceInfo, pattern_format, pattern_frames, read_sequence, write_sequence  # noqa: E402
+from .sequence import SequenceInfo, Window, pattern_format, pattern_frames, read_sequence, write_sequence  # noqa: E402
 
 __version__ = "0.1.0"
 
 __all__ = [
     "Detection", "crop_windows", "detect", "merge",
     "CancelledError", "Error", "FileError", "Filter", "InternalError", "InvalidArgumentError", "NotFoundError",
-    "NumericError", "OutOfMemoryError", "SequenceInfo", "UnsupportedError", "compare", "filters", "library_path",
+    "NumericError", "OutOfMemoryError", "SequenceInfo", "UnsupportedError", "Window", "compare", "filters", "library_path",
     "pattern_format", "pattern_frames", "plugins", "read_sequence", "version", "write_sequence",
 ]

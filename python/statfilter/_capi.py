@@ -245,6 +245,7 @@ FUNCTIONS = {
     "sf_sequence_read": (sf_status, [c_char_p, _P(sf_read_options), _P(sf_sequence)]),
     "sf_channel_selection": (sf_status, [c_char_p, c_char_p, c_char_p, c_size_t, _P(c_size_t)]),
     "sf_sequence_frame_windows": (sf_status, [sf_sequence, c_int64, _P(sf_window), _P(sf_window), _P(sf_window)]),
+    "sf_sequence_set_frame_windows": (sf_status, [sf_sequence, c_int64, _P(sf_window), _P(sf_window)]),
     "sf_write_options_init": (None, [_P(sf_write_options)]),
     "sf_sequence_write": (sf_status, [sf_sequence, c_char_p, _P(sf_write_options)]),
     # filters

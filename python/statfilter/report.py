@@ -313,8 +313,9 @@ def _param(text: str) -> Tuple[str, object]:
     return name, value
 
 
-def main(argv: Optional[Sequence[str]] = None) -> int:
-    ap = argparse.ArgumentParser(prog="python -m statfilter.report", description=__doc__.split("\n\n")[0])
+def main(argv: Optional[Sequence[str]] = None, prog: str = "python -m statfilter.report") -> int:
+    """The command line; `statfilter report` (the CLI) runs this with prog="statfilter report"."""
+    ap = argparse.ArgumentParser(prog=prog, description=__doc__.split("\n\n")[0])
     ap.add_argument("input", metavar="IN", help="the noisy frames, e.g. 'render/indirect.####.exr'")
     ap.add_argument("output", metavar="OUT", help="the denoised frames")
     ap.add_argument("--ref", metavar="REF", help="reference frames: adds the error per frame")
@@ -339,11 +340,11 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
                             not opts.no_maps, {"in": opts.input, "out": opts.output, "ref": opts.ref or ""},
                             opts.max_width)
     except (Error, ValueError, OSError) as e:
-        print("statfilter.report: error: %s" % e, file=sys.stderr)
+        print("%s: error: %s" % (prog, e), file=sys.stderr)
         return 2
     with open(opts.html, "w", encoding="utf-8") as f:
         f.write(page)
-    print("statfilter.report: wrote %s (%d KiB)" % (opts.html, (len(page.encode()) + 1023) // 1024))
+    print("%s: wrote %s (%d KiB)" % (prog, opts.html, (len(page.encode()) + 1023) // 1024))
     return 0
 
 

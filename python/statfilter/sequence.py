@@ -19,11 +19,24 @@ from ._progress import ProgressAdapter, ProgressCallback
 from .errors import InvalidArgumentError, check
 
 #: What ``read_sequence(..., return_info=True)`` returns beside the array.
+class Window(NamedTuple):
+    """A rectangle of pixels in a file's coordinates (an EXR data or display window)."""
+    x: int
+    y: int
+    width: int
+    height: int
+
+
 class SequenceInfo(NamedTuple):
     """channel_names: list of str, one per channel (a layer's channels are named by their suffix,
-    e.g. R, G, B); frame_numbers: list of int, the number on disk of each frame, ascending."""
+    e.g. R, G, B); frame_numbers: list of int, the number on disk of each frame, ascending;
+    data_window: where the array's pixels sit in the files (a region render: not at the origin);
+    display_window: the frame they belong to. Give both to write_sequence to write the region back
+    where it was."""
     channel_names: List[str]
     frame_numbers: List[int]
+    data_window: Optional[Window] = None
+    display_window: Optional[Window] = None
 
 
 #: A file pattern or name (str, bytes or a path).
@@ -158,8 +171,10 @@ def read_sequence(pattern: Pattern, channels: Optional[Channels] = None, frames:
     try:
         shape = _capi.sf_shape()
         check(_capi.lib.sf_sequence_shape(handle, ctypes.byref(shape)))
+        data, display = _capi.sf_window(), _capi.sf_window()
+        check(_capi.lib.sf_sequence_frame_windows(handle, 0, ctypes.byref(data), ctypes.byref(display), None))
         info = SequenceInfo(_arrays.channel_names(handle, shape.channels),
-                            _arrays.frame_numbers(handle, shape.frames))
+                            _arrays.frame_numbers(handle, shape.frames), _window(data), _window(display))
     except BaseException:
         _capi.lib.sf_sequence_release(handle)
         raise
@@ -167,10 +182,24 @@ def read_sequence(pattern: Pattern, channels: Optional[Channels] = None, frames:
     return (array, info) if return_info else array
 
 
+def _window(w: Any) -> Window:
+    return Window(int(w.x), int(w.y), int(w.width), int(w.height))
+
+
+def _sf_window(w: Sequence[int], what: str) -> Any:
+    try:
+        x, y, width, height = (int(v) for v in w)
+    except (TypeError, ValueError):
+        raise InvalidArgumentError("%s must be (x, y, width, height), got %r" % (what, w)) from None
+    return _capi.sf_window(x, y, width, height)
+
+
 def write_sequence(pattern: Pattern, array: np.ndarray, pixel_type: str = "half", compression: str = "zip",
                    frame_numbers: Optional[Sequence[int]] = None, channel_names: Optional[Union[str, Sequence[str]]] = None,
                    half_overflow: str = "error", ocio_config: Optional[str] = None, colorspace_in: Optional[str] = None,
-                   colorspace_out: Optional[str] = None, progress: Optional[ProgressCallback] = None) -> List[Union[str, bytes]]:
+                   colorspace_out: Optional[str] = None, progress: Optional[ProgressCallback] = None,
+                   data_window: Optional[Sequence[int]] = None,
+                   display_window: Optional[Sequence[int]] = None) -> List[Union[str, bytes]]:
     """Write an array shaped (frames, height, width, channels) as one EXR file per frame.
 
     The array is passed to the library without a copy when it is float32 with non-negative
@@ -188,6 +217,10 @@ def write_sequence(pattern: Pattern, array: np.ndarray, pixel_type: str = "half"
                    NumericError before any file is written; "clamp": clamp to +-65504.
     ocio_config, colorspace_in, colorspace_out: convert colours before writing (both or neither).
     progress:      optional ``progress(fraction, stage)``; return False to cancel.
+    data_window, display_window: (x, y, width, height) where the pixels go (the data window,
+                   the array's width x height) inside which frame (the display window; default the
+                   data window), e.g. a region read with ``return_info=True`` written back in place.
+                   Default: at the origin of a frame of the array's size.
 
     Every frame goes to a temporary file renamed into place, so a failure leaves no partial
     frame. Returns the list of file names written.
@@ -220,6 +253,13 @@ def write_sequence(pattern: Pattern, array: np.ndarray, pixel_type: str = "half"
     pattern_bytes = _capi.encode_path(pattern)
     with _arrays.WrappedSequence(a) as seq:
         _arrays.set_attributes(seq.handle, channel_names, frame_numbers)
+        if data_window is not None or display_window is not None:
+            if data_window is None:
+                raise InvalidArgumentError("display_window needs the data_window of the pixels inside it")
+            data = _sf_window(data_window, "data_window")
+            display = _sf_window(display_window, "display_window") if display_window is not None else None
+            check(_capi.lib.sf_sequence_set_frame_windows(seq.handle, -1, ctypes.byref(data),
+                                                          ctypes.byref(display) if display is not None else None))
         numbers_written = _arrays.frame_numbers(seq.handle, frames)
         status = _capi.lib.sf_sequence_write(seq.handle, pattern_bytes, ctypes.byref(options))
         adapter.reraise()

@@ -137,3 +137,35 @@ def test_progress_reports(tmp_path, noisy):
     seen.clear()
     statfilter.Filter("copy")(noisy, progress=lambda f, s: seen.append((f, s)))
     assert seen and seen[-1][0] == 1.0
+
+
+def test_a_region_keeps_its_windows_through_numpy(tmp_path, rng):
+    a = rng.random((2, 12, 15, 3), dtype=np.float32)
+    written = statfilter.write_sequence(str(tmp_path / "region.####.exr"), a, pixel_type="float",
+                                        data_window=(5, 2, 15, 12), display_window=(0, 0, 24, 16))
+    assert len(written) == 2
+    b, info = statfilter.read_sequence(str(tmp_path / "region.####.exr"), return_info=True)
+    np.testing.assert_array_equal(b, a)
+    assert info.data_window == statfilter.Window(5, 2, 15, 12)
+    assert info.display_window == statfilter.Window(0, 0, 24, 16)
+    # filtered in NumPy and written back where it was
+    statfilter.write_sequence(str(tmp_path / "again.####.exr"), b * 2, pixel_type="float",
+                              data_window=info.data_window, display_window=info.display_window)
+    c, again = statfilter.read_sequence(str(tmp_path / "again.####.exr"), return_info=True)
+    np.testing.assert_array_equal(c, a * 2)
+    assert again[2:] == info[2:]
+    # without windows a frame sits at the origin of its own size
+    statfilter.write_sequence(str(tmp_path / "plain.####.exr"), a, pixel_type="float")
+    _, plain = statfilter.read_sequence(str(tmp_path / "plain.####.exr"), return_info=True)
+    assert plain.data_window == plain.display_window == statfilter.Window(0, 0, 15, 12)
+
+
+def test_windows_that_do_not_fit_the_array_are_refused(tmp_path, rng):
+    a = rng.random((1, 4, 6, 3), dtype=np.float32)
+    with pytest.raises(statfilter.InvalidArgumentError, match="not the sequence's size"):
+        statfilter.write_sequence(str(tmp_path / "w.exr"), a, data_window=(0, 0, 5, 4))
+    with pytest.raises(statfilter.InvalidArgumentError, match="data_window"):
+        statfilter.write_sequence(str(tmp_path / "w.exr"), a, display_window=(0, 0, 8, 8))
+    with pytest.raises(statfilter.InvalidArgumentError, match="x, y, width, height"):
+        statfilter.write_sequence(str(tmp_path / "w.exr"), a, data_window=(0, 0, 6))
+    assert not (tmp_path / "w.exr").exists()

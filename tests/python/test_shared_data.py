@@ -28,7 +28,8 @@ def test_cornell_moving_indirect(shared_data, tmp_path):
                               channel_names=info.channel_names)
     b, info_b = statfilter.read_sequence(str(tmp_path / "i.####.exr"), return_info=True)
     np.testing.assert_array_equal(b, a[:4])
-    assert info_b == statfilter.SequenceInfo(info.channel_names, info.frame_numbers[:4])
+    assert info_b == info._replace(frame_numbers=info.frame_numbers[:4])
+    assert info_b.data_window == info_b.display_window == statfilter.Window(0, 0, 160, 120)
 
     sub = statfilter.read_sequence(pattern, frames="3-5", channels="G")
     np.testing.assert_array_equal(sub, a[2:5, ..., 1:2])

@@ -187,6 +187,11 @@ typedef struct sf_window {
  * not read from files has all three at (0, 0) of its own size. Any pointer may be NULL. */
 SF_API sf_status sf_sequence_frame_windows(sf_sequence sequence, int64_t frame, sf_window* data, sf_window* display,
                                            sf_window* file_data);
+/* Places frame index `frame` (-1: every frame) for writing: its pixels fill `data` (which must be
+ * the sequence's width x height) inside the display window `display` (NULL: the same as data), as a
+ * region render is written. Pixels then keep the sequence's own values (nothing is read). */
+SF_API sf_status sf_sequence_set_frame_windows(sf_sequence sequence, int64_t frame, const sf_window* data,
+                                               const sf_window* display);
 
 typedef enum sf_pixel_type { SF_PIXEL_HALF = 0, SF_PIXEL_FLOAT = 1 } sf_pixel_type;
 
