@@ -86,7 +86,8 @@ class Runner:
         scores = json.loads(subprocess.run([self.cli, "compare", out, ref, "--json"], check=True,
                                            capture_output=True, text=True).stdout)
         result = self.sf.read_sequence(out).astype("float64")
-        return {"rel_mse": scores["rel_mse"], "rel_mse_moving": scores["rel_mse_moving"],
+        return {"rel_mse": scores["rel_mse"], "rel_mse_moving": scores["rel_mse_moving"], "jitter": scores["jitter"],
+                "moving_fraction": scores["moving_fraction"],
                 "bias": result.mean() / self.mean_of(noisy) - 1, "negative": float((result < 0).mean())}
 
 

@@ -1,7 +1,9 @@
 #include "statfilter/filter.hpp"
 
 #include "filters/frame_stages.hpp"
+#include "pipeline/parallel.hpp"
 #include "pipeline/stage.hpp"
+#include "pipeline/trusted_prefilter.hpp"
 #include "statfilter/error.hpp"
 #include "statfilter/nonfinite.hpp"
 
@@ -42,9 +44,18 @@ void Filter::execute(const Sequence& input, Sequence& output, const Progress& pr
         repair_sequence_nonfinite(*repaired);
         source = repaired.get();
     }
+    const Sequence* noisy = source;
+    std::unique_ptr<TimeTrust> trust;
     if (pre) {  // the stage's execute gives it input's attributes
         prefiltered = std::make_unique<Sequence>(input.shape());
-        run_frame_stage("prefilter", params_, *source, *prefiltered, slice(progress, 0, pre_span), results_);
+        if (trusts_time_by_tile(params_)) {  // frame by frame, each probed once more
+            trust = std::make_unique<TimeTrust>(input.shape());
+            FrameStagePool pool("prefilter", params_);
+            prefilter_and_probe(pool, *source, *prefiltered, *trust, resolve_threads(0), {progress, 0, pre_span, "prefilter"});
+            pool.add_results(results_);
+        } else {
+            run_frame_stage("prefilter", params_, *source, *prefiltered, slice(progress, 0, pre_span), results_);
+        }
         source = prefiltered.get();
     }
     Sequence* target = &output;
@@ -53,6 +64,7 @@ void Filter::execute(const Sequence& input, Sequence& output, const Progress& pr
         target = filtered.get();
     }
     run(*source, *target, slice(progress, pre_span, 1 - pre_span - post_span));
+    if (trust) results_.set("prefilter_trust.share", blend_toward_prefilter(*trust, *noisy, *prefiltered, *target, resolve_threads(0)));
     if (post) run_frame_stage("postfilter", params_, *filtered, output, slice(progress, 1 - post_span, post_span), results_);
     if (&input != &output) output.copy_attributes_from(input);
 }

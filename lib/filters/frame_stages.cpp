@@ -14,7 +14,11 @@ std::vector<ParamSpec> prefilter_params() {
     ParamSpec list = choice_param("prefilter_params", "", {},
                                   "the prefilter's parameters as name=value,name=value (e.g. quality=high); "
                                   "its defaults otherwise");
-    return {name, list};
+    ParamSpec trust = int_param("prefilter_trust", "1", 0, 1,
+                                "1: after the prefilter, each 16 x 16 tile of a frame keeps only the share of the "
+                                "temporal filter's change that its noisy frame supports (no ghost where the temporal "
+                                "model fails; costs one more prefilter run per frame); 0: the temporal result as it is");
+    return {name, list, trust};
 }
 
 std::vector<ParamSpec> postfilter_params(const char* default_filter, const char* default_params) {
@@ -28,6 +32,10 @@ std::vector<ParamSpec> postfilter_params(const char* default_filter, const char*
 
 bool has_frame_stage(const ParamSet& params, const std::string& stage) {
     return params.has(stage) && !params.get_string(stage).empty();
+}
+
+bool trusts_time_by_tile(const ParamSet& params) {
+    return has_frame_stage(params, "prefilter") && params.has("prefilter_trust") && params.get_int("prefilter_trust") != 0;
 }
 
 void set_param_list(ParamSet& params, const std::string& list, const std::string& what) {

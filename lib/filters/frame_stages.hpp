@@ -46,5 +46,8 @@ void add_stage_results(const std::string& stage, const Results& own, Results& re
 
 // True when parameter `stage` exists and names a filter.
 bool has_frame_stage(const ParamSet& params, const std::string& stage);
+// True when a prefilter runs and the temporal result is to be blended back towards it tile by tile
+// where the noisy frames do not support it (prefilter_trust; statfilter/time_trust.hpp).
+bool trusts_time_by_tile(const ParamSet& params);
 
 }  // namespace statfilter

@@ -12,6 +12,7 @@
 #include "pipeline/scratch_frames.hpp"
 #include "pipeline/stage.hpp"
 #include "statfilter/filter.hpp"
+#include "statfilter/time_trust.hpp"
 
 namespace statfilter {
 namespace {
@@ -54,24 +55,35 @@ void Filter::execute(const FrameSource& source, FrameSink& sink, const RunOption
         if (pre) prefilter = std::make_unique<FrameStagePool>("prefilter", params_);
         if (post) postfilter = std::make_unique<FrameStagePool>("postfilter", params_);
         // A frame stage holds its frame and a few working copies of it (diffusion: doubles) per thread.
-        const double frame_stages = (pre || post) ? threads * frame_bytes * 6 : 0;
+        const bool trusting = trusts_time_by_tile(params_);
+        const double frame_stages = (pre || post) ? threads * frame_bytes * (trusting ? 9 : 6) : 0;
         needed = stage->min_bytes(s, threads) + frame_stages;
         check_memory_budget(needed, budget, "this run (" + shot_text(s) + ", streamed)");
         const FrameSource* input = &source;
         std::unique_ptr<ScratchFrames> scratch;
+        std::unique_ptr<TimeTrust> trust;
         double start = 0;
+        const auto samples = static_cast<size_t>(s.pixels() * s.channels);
         if (pre) {
             // The temporal passes read bands of every prefiltered frame twice: park them on disk.
             start = 0.3;
             scratch = std::make_unique<ScratchFrames>(s, source.attributes());
+            if (trusting) trust = std::make_unique<TimeTrust>(s);
             parallel_for(s.frames, threads, [&](int64_t f) {
-                std::vector<float> frame(static_cast<size_t>(s.pixels() * s.channels));
+                std::vector<float> frame(samples), noisy;
                 source.read_rows(f, 0, s.height, frame.data());
+                if (trust) noisy = frame;
                 prefilter->apply(f, frame.data(), s, source.attributes());
+                if (trust)
+                    trust->probe(f, noisy.data(), frame.data(),
+                                 [&](float* pixels) { prefilter->apply(f, pixels, s, source.attributes()); });
                 scratch->write_frame(f, frame.data());
             }, {progress, 0.0, start, "prefilter"});
             input = scratch.get();
         }
+        // With the trust blend the temporal frames wait on disk until every frame's fit is known.
+        std::unique_ptr<ScratchFrames> temporal;
+        if (trust) temporal = std::make_unique<ScratchFrames>(s, source.attributes());
         const Progress stage_progress([&](double fraction, const char* name) {
             progress.report(start + (1 - start) * fraction, name);
             return true;
@@ -83,10 +95,33 @@ void Filter::execute(const FrameSource& source, FrameSink& sink, const RunOption
         // What a preset picked is known before its first frame is handed on: the frames say so.
         std::once_flag provenance;
         stage->run(*input, [&](int64_t f, float* pixels) {
+            if (trust) {
+                std::vector<float> noisy(samples), prefiltered(samples);
+                source.read_rows(f, 0, s.height, noisy.data());
+                scratch->read_rows(f, 0, s.height, prefiltered.data());
+                trust->measure(f, noisy.data(), prefiltered.data(), pixels);
+                temporal->write_frame(f, pixels);
+                return;
+            }
             std::call_once(provenance, [&] { set_provenance(sink); });
             if (post) postfilter->apply(f, pixels, s, source.attributes());
             sink.write_frame(f, pixels);
         }, context, results_);
+        if (trust) {  // back towards the prefiltered frames where the noisy frames do not support the change
+            std::vector<double> share(static_cast<size_t>(s.frames), 1.0);
+            parallel_for(s.frames, threads, [&](int64_t f) {
+                std::vector<float> prefiltered(samples), pixels(samples);
+                scratch->read_rows(f, 0, s.height, prefiltered.data());
+                temporal->read_rows(f, 0, s.height, pixels.data());
+                share[static_cast<size_t>(f)] = trust->blend(f, prefiltered.data(), pixels.data());
+                std::call_once(provenance, [&] { set_provenance(sink); });
+                if (post) postfilter->apply(f, pixels.data(), s, source.attributes());
+                sink.write_frame(f, pixels.data());
+            }, {progress, 0.95, 0.05, "blend"});
+            double mean = 0;
+            for (double v : share) mean += v;
+            results_.set("prefilter_trust.share", s.frames > 0 ? mean / static_cast<double>(s.frames) : 1.0);
+        }
     } else {
         // The whole shot in memory: input, output, the filter's own copies, and the stages' outputs.
         const double copies = 2 + resident_copies() + (pre ? 1 : 0) + (post ? 1 : 0);

@@ -1,0 +1,54 @@
+// How far to trust time after a single-frame prefilter (OIDN): a temporal filter run on prefiltered
+// frames y removes their flicker, but where it aligns or models frames badly (fast motion,
+// disocclusion) its result z is further from the truth than y was. Per tile of every frame, the share
+// w of the temporal change d = y - z kept is the least-squares fit of y's own error on d, measured
+// against the noisy frame x (an unbiased render of the truth): w = (sum (y - x) d + S) / sum d^2,
+// held in [0, 1], where S, Stein's correction for y having been made from x (sum of sigma^2 dy/dx), is
+// measured by running the prefilter once more on x perturbed by a small random sign pattern. That fit
+// is noisy where d is small against the noise (still regions, where d is the prefilter's flicker and
+// a share that jumps from frame to frame would bring the flicker back), so the sums are pooled over
+// the frames t-2..t+2 and w is the posterior mean under a unit prior around 1 (trust time):
+// w = (F w_fit + 1) / (F + 1), F = sum d^2 / sigma^2 the evidence in noise units. The output is
+// y - w d, with w interpolated between tile centres. docs/methods.md, "Trusting time after a
+// prefilter".
+#pragma once
+#include <cstdint>
+#include <functional>
+#include <vector>
+
+#include "statfilter/sequence.hpp"
+
+namespace statfilter {
+
+class TimeTrust {
+public:
+    // 16 x 16 pixels: with three channels, 768 samples per fit, enough for the share to be steady at
+    // 4 samples per pixel; small enough to follow a moving object.
+    static constexpr int64_t kTile = 16;
+
+    explicit TimeTrust(const Shape& shape);
+
+    // Frame f's Stein correction per tile, from its noisy pixels x, the prefilter's output y = P(x)
+    // and one more run of P (filters a frame in place) on a perturbed copy of x. Frames may be
+    // probed from several threads at once.
+    void probe(int64_t f, const float* x, const float* y, const std::function<void(float*)>& prefilter);
+    // The fit's sums for frame f from its noisy, prefiltered and temporal pixels (any frame order,
+    // from several threads at once), once every frame is probed.
+    void measure(int64_t f, const float* x, const float* y, const float* z);
+    // Once every frame is measured: z (frame f of the temporal result) becomes y - w (y - z); returns
+    // the mean share w of the frame.
+    double blend(int64_t f, const float* y, float* z) const;
+    // Frames t - kPool .. t + kPool share a tile's fit.
+    static constexpr int64_t kPool = 2;
+
+    int64_t tiles_x() const { return tiles_x_; }
+    int64_t tiles_y() const { return tiles_y_; }
+
+private:
+    Shape shape_;
+    int64_t tiles_x_, tiles_y_;
+    // [frame][tile]: Stein's correction, noise variance, the fit's numerator and denominator
+    std::vector<std::vector<double>> stein_, sigma2_, num_, den_;
+};
+
+}  // namespace statfilter

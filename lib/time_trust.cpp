@@ -1,0 +1,154 @@
+#include "statfilter/time_trust.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "statfilter/error.hpp"
+
+namespace statfilter {
+namespace {
+
+// A +-1 pattern fixed by frame and sample: the probe is the same for any thread count or tiling.
+float random_sign(int64_t frame, int64_t sample) {
+    uint64_t z = static_cast<uint64_t>(frame) * 0x9E3779B97F4A7C15ull + static_cast<uint64_t>(sample) + 0x632BE59BD9B4E019ull;
+    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+    z ^= z >> 31;
+    return (z & 1) ? 1.0f : -1.0f;
+}
+
+// Position of pixel coordinate i among tile centres: index of the tile before it and the weight of
+// the next one (clamped at the borders).
+void between_centres(int64_t i, int64_t tiles, int64_t& first, double& t) {
+    const double pos = std::clamp((static_cast<double>(i) + 0.5) / TimeTrust::kTile - 0.5, 0.0,
+                                  static_cast<double>(tiles - 1));
+    first = std::min(static_cast<int64_t>(pos), tiles - 1);
+    t = pos - static_cast<double>(first);
+}
+
+}  // namespace
+
+TimeTrust::TimeTrust(const Shape& shape)
+    : shape_(shape), tiles_x_((shape.width + kTile - 1) / kTile), tiles_y_((shape.height + kTile - 1) / kTile),
+      stein_(static_cast<size_t>(shape.frames)), sigma2_(static_cast<size_t>(shape.frames)),
+      num_(static_cast<size_t>(shape.frames)), den_(static_cast<size_t>(shape.frames)) {}
+
+void TimeTrust::probe(int64_t f, const float* x, const float* y, const std::function<void(float*)>& prefilter) {
+    const int64_t W = shape_.width, H = shape_.height, C = shape_.channels;
+    const int64_t samples = W * H * C;
+    // Each tile's noise variance sigma^2, from the prefilter's residual x - y (the truth is near y).
+    std::vector<double> sigma2(static_cast<size_t>(tiles_x_ * tiles_y_), 0.0), count(sigma2.size(), 0.0);
+    for (int64_t py = 0; py < H; ++py)
+        for (int64_t px = 0; px < W; ++px) {
+            const size_t t = static_cast<size_t>((py / kTile) * tiles_x_ + px / kTile);
+            for (int64_t c = 0; c < C; ++c) {
+                const int64_t i = (py * W + px) * C + c;
+                const double r = static_cast<double>(x[i]) - y[i];
+                if (std::isfinite(r)) {
+                    sigma2[t] += r * r;
+                    count[t] += 1;
+                }
+            }
+        }
+    for (size_t t = 0; t < sigma2.size(); ++t) sigma2[t] = count[t] > 0 ? sigma2[t] / count[t] : 0.0;
+    // The probe: x + eps b, eps a twentieth of the tile's noise (scales with the data), b a sign.
+    std::vector<float> perturbed(x, x + samples), step(static_cast<size_t>(samples), 0.0f);
+    for (int64_t py = 0; py < H; ++py)
+        for (int64_t px = 0; px < W; ++px) {
+            const double eps = 0.05 * std::sqrt(sigma2[static_cast<size_t>((py / kTile) * tiles_x_ + px / kTile)]);
+            for (int64_t c = 0; c < C; ++c) {
+                const int64_t i = (py * W + px) * C + c;
+                float v = x[i] + static_cast<float>(eps) * random_sign(f, i);
+                if (x[i] >= 0 && v < 0) v = 0;  // renders are non-negative: so is what the prefilter sees
+                step[static_cast<size_t>(i)] = v - x[i];
+                perturbed[static_cast<size_t>(i)] = v;
+            }
+        }
+    prefilter(perturbed.data());
+    std::vector<double> stein(sigma2.size(), 0.0);
+    for (int64_t py = 0; py < H; ++py)
+        for (int64_t px = 0; px < W; ++px) {
+            const size_t t = static_cast<size_t>((py / kTile) * tiles_x_ + px / kTile);
+            for (int64_t c = 0; c < C; ++c) {
+                const int64_t i = (py * W + px) * C + c;
+                const double s = step[static_cast<size_t>(i)];
+                if (s == 0) continue;
+                // sigma^2 dy_i/dx_i, estimated along the sign pattern: sigma^2 b (y' - y) / eps
+                const double d = sigma2[t] * (static_cast<double>(perturbed[static_cast<size_t>(i)]) - y[i]) / s;
+                if (std::isfinite(d)) stein[t] += d;
+            }
+        }
+    stein_[static_cast<size_t>(f)] = std::move(stein);
+    sigma2_[static_cast<size_t>(f)] = std::move(sigma2);
+}
+
+void TimeTrust::measure(int64_t f, const float* x, const float* y, const float* z) {
+    const std::vector<double>& stein = stein_[static_cast<size_t>(f)];
+    if (stein.empty()) throw Error(Status::Internal, "time trust: frame " + std::to_string(f) + " was not probed");
+    const int64_t W = shape_.width, H = shape_.height, C = shape_.channels;
+    std::vector<double> num(stein), den(stein.size(), 0.0);
+    for (int64_t py = 0; py < H; ++py)
+        for (int64_t px = 0; px < W; ++px) {
+            const size_t t = static_cast<size_t>((py / kTile) * tiles_x_ + px / kTile);
+            for (int64_t c = 0; c < C; ++c) {
+                const int64_t i = (py * W + px) * C + c;
+                const double d = static_cast<double>(y[i]) - z[i];
+                const double e = static_cast<double>(y[i]) - x[i];
+                if (!std::isfinite(d) || !std::isfinite(e)) continue;
+                num[t] += e * d;
+                den[t] += d * d;
+            }
+        }
+    num_[static_cast<size_t>(f)] = std::move(num);
+    den_[static_cast<size_t>(f)] = std::move(den);
+}
+
+double TimeTrust::blend(int64_t f, const float* y, float* z) const {
+    const int64_t W = shape_.width, H = shape_.height, C = shape_.channels;
+    const size_t tiles = static_cast<size_t>(tiles_x_ * tiles_y_);
+    std::vector<double> num(tiles, 0.0), den(tiles, 0.0), sigma2(tiles, 0.0);
+    for (int64_t g = std::max<int64_t>(0, f - kPool); g <= std::min(shape_.frames - 1, f + kPool); ++g) {
+        if (num_[static_cast<size_t>(g)].size() != tiles)
+            throw Error(Status::Internal, "time trust: frame " + std::to_string(g) + " was not measured");
+        for (size_t t = 0; t < tiles; ++t) {
+            num[t] += num_[static_cast<size_t>(g)][t];
+            den[t] += den_[static_cast<size_t>(g)][t];
+            sigma2[t] += sigma2_[static_cast<size_t>(g)][t];
+        }
+    }
+    std::vector<double> share(tiles);
+    double mean = 0;
+    for (size_t t = 0; t < tiles; ++t) {
+        // The fit, num / den, weighed against the prior w = 1 by its evidence den / sigma^2 (sigma^2
+        // summed over the pooled frames as den is).
+        const double frames = static_cast<double>(std::min(shape_.frames - 1, f + kPool) - std::max<int64_t>(0, f - kPool) + 1);
+        const double noise = sigma2[t] / frames;
+        const double evidence = noise > 0 ? den[t] / noise : 0.0;
+        const double fit = den[t] > 0 ? std::clamp(num[t] / den[t], 0.0, 1.0) : 1.0;
+        const double w = (evidence * fit + 1.0) / (evidence + 1.0);
+        share[t] = std::isfinite(w) ? std::clamp(w, 0.0, 1.0) : 1.0;
+        mean += share[t];
+    }
+    for (int64_t py = 0; py < H; ++py) {
+        int64_t ty;
+        double ay;
+        between_centres(py, tiles_y_, ty, ay);
+        const int64_t ty1 = std::min(ty + 1, tiles_y_ - 1);
+        for (int64_t px = 0; px < W; ++px) {
+            int64_t tx;
+            double ax;
+            between_centres(px, tiles_x_, tx, ax);
+            const int64_t tx1 = std::min(tx + 1, tiles_x_ - 1);
+            auto at = [&](int64_t a, int64_t b) { return share[static_cast<size_t>(a * tiles_x_ + b)]; };
+            const double w = (1 - ay) * ((1 - ax) * at(ty, tx) + ax * at(ty, tx1)) + ay * ((1 - ax) * at(ty1, tx) + ax * at(ty1, tx1));
+            for (int64_t c = 0; c < C; ++c) {
+                const int64_t i = (py * W + px) * C + c;
+                const double d = static_cast<double>(y[i]) - z[i];
+                if (std::isfinite(d)) z[i] = static_cast<float>(y[i] - w * d);
+            }
+        }
+    }
+    return share.empty() ? 1.0 : mean / static_cast<double>(share.size());
+}
+
+}  // namespace statfilter
