@@ -25,6 +25,8 @@ const char* const kUsage =
     "  motion IN           motion maps: alpha (1 = still) and beta (per frame, 1 = moving)\n"
     "  detect DENOISED     pixel-frames still wrong after denoising: mask, crop windows (--noisy NOISY)\n"
     "  merge DEN RR OUT    splice re-rendered pixels (full frames or crop windows) into the denoised\n"
+    "  plan IN OUT -o PLAN  the denoise run as tasks for a render farm or Dask (docs/distributed.md)\n"
+    "  task PLAN N         run task N of a plan\n"
     "  compare TEST REF    error of a sequence against a reference (relMSE, PSNR, flicker)\n"
     "  plugins             every filter, built-in or plugin: kind, version, origin, parameters\n"
     "  version             print the library version\n"
@@ -51,6 +53,7 @@ int main(int argc, char** argv) {
     const std::map<std::string, int (*)(int, char**)> commands = {
         {"info", cmd_info},       {"copy", cmd_copy},     {"denoise", cmd_denoise}, {"compare", cmd_compare},
         {"plugins", cmd_plugins}, {"motion", cmd_motion}, {"detect", cmd_detect},   {"merge", cmd_merge},
+        {"plan", cmd_plan},       {"task", cmd_task},
         {"version", print_version}};
     try {
         if (command == "--version") return print_version(argc, argv);
