@@ -232,6 +232,11 @@ void assemble_task(Run& run, const JsonValue& task, int64_t index) {
             tiles.push_back(range(t, "rows", "task"));
             if (first_reconstruct < 0) first_reconstruct = integer(t, "index", "task");
         }
+    // Every tile there before any frame is staged (a task run before the reconstructions fails here).
+    for (size_t k = 0; k < tiles.size(); ++k)
+        if (!fs::exists(run.work.tile(static_cast<int64_t>(k))))
+            throw Error(Status::Io, "tile " + std::to_string(k) + " ('" + run.work.tile(static_cast<int64_t>(k)) +
+                                        "') is not there: run the reconstruction tasks before the assembly");
     const std::string staging = staging_dir(run.plan, index);
     auto sink = staging_sink(run, staging, *attributes);
     // What the preset chose, as the single-process frames say.
