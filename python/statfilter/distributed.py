@@ -138,7 +138,7 @@ def denoise(input: str, output: str, client: Any = None, method: Optional[str] =
     planned = time.time()
     own_cluster = None
     if client is None:
-        own_cluster = LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None)
+        own_cluster = LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=":0")
         client = Client(own_cluster)
     try:
         tag = os.path.basename(plan_dir)
