@@ -110,3 +110,19 @@ def test_plan_checks_before_any_work(sample_noisy, tmp_path):
     proc = run("task", tmp_path / "p.json", phase["assemble"], check_rc=1)
     assert "run the reconstruction tasks before the assembly" in proc.stderr
     assert not list(tmp_path.glob("o.*.exr")) and not [p for p in tmp_path.iterdir() if p.name.startswith(".")]
+
+
+def test_farm_submission_scripts_lay_the_phases_out(sample_noisy, tmp_path):
+    import sys
+    from pathlib import Path
+    farm = Path(__file__).resolve().parents[2] / "scripts" / "farm"
+    plan = tmp_path / "plan.json"
+    run("plan", sample_noisy, tmp_path / "o.####.exr", "--method", "pca", "--tiles", "3", "-o", plan, "--quiet")
+    cue = subprocess.run([sys.executable, farm / "opencue_submit.py", plan, "--dry-run"], capture_output=True, text=True,
+                         check=True).stdout.splitlines()
+    assert [line.split()[1:4] for line in cue] == [["statistics", "frames", "0-2"], ["reduce", "frames", "3-3"],
+                                                  ["reconstruct", "frames", "4-6"], ["assemble", "frames", "7-10"]]
+    deadline = subprocess.run([sys.executable, farm / "deadline_submit.py", plan, "--dry-run"], capture_output=True,
+                              text=True, check=True).stdout
+    assert deadline.count("Plugin=CommandLine") == 4 and deadline.count("JobDependencies=") == 3
+    assert "<STARTFRAME>" in deadline
