@@ -3,6 +3,8 @@
 
 #include <atomic>
 #include <chrono>
+#include <cstdio>
+#include <functional>
 #include <filesystem>
 #include <sstream>
 
@@ -85,10 +87,15 @@ struct Work {
 
 // A task's frames are staged in a hidden directory beside the output frames (the same file system,
 // so moving each into place is one atomic rename), named after the plan's work directory and task.
+// The work directory's full path is hashed in, so plans whose work directories share a name do not
+// meet there (only the task that makes a staging directory reads it: the hash need not be stable).
 std::string staging_dir(const JsonValue& plan, int64_t task) {
     const fs::path output(plan.find("output")->string());
-    const std::string work = fs::path(plan.find("work")->string()).filename().string();
-    return (output.parent_path() / ("." + work + ".frames-" + std::to_string(task))).string();
+    const std::string& work = plan.find("work")->string();
+    char hash[17];
+    std::snprintf(hash, sizeof hash, "%016zx", std::hash<std::string>()(work));
+    return (output.parent_path() / ("." + fs::path(work).filename().string() + "-" + hash + ".frames-" +
+                                    std::to_string(task))).string();
 }
 
 struct Run {
