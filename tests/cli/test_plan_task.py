@@ -17,7 +17,6 @@ CASES = [
     (["--method", "pca"], ["--tiles", "1"], "tiles", True),
     (["--method", "pca"], ["--tiles", "3"], "tiles", False),
     (["--method", "error-threshold", "--firefly-z", "0"], ["--tile-rows", "16"], "tiles", True),
-    (["--method", "error-threshold"], ["--tile-rows", "16"], "tiles", False),
     (["--quality", "fast"], ["--tiles", "4"], "tiles", False),
     (["--method", "copy"], ["--frames-per-task", "5"], "frames", True),
     (["--method", "diffusion"], [], "frames", True),
