@@ -25,7 +25,7 @@ const char* const kUsage =
     "  motion IN           motion maps: alpha (1 = still) and beta (per frame, 1 = moving)\n"
     "  detect DENOISED     pixel-frames still wrong after denoising: mask, crop windows (--noisy NOISY)\n"
     "  merge DEN RR OUT    splice re-rendered pixels (full frames or crop windows) into the denoised\n"
-    "  plan IN OUT -o PLAN  the denoise run as tasks for a render farm or Dask (docs/distributed.md)\n"
+    "  plan IN OUT -o P    the denoise run as tasks for a render farm or Dask (docs/distributed.md)\n"
     "  task PLAN N         run task N of a plan\n"
     "  compare TEST REF    error of a sequence against a reference (relMSE, PSNR, flicker)\n"
     "  plugins             every filter, built-in or plugin: kind, version, origin, parameters\n"

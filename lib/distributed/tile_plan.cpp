@@ -57,7 +57,7 @@ std::string make_plan(const Filter& filter, const FrameSource& source, const Pla
         const std::vector<double> scales = low_rank->transform_scales(source);
         // Each tile task holds its band (with halo) within the task's budget, or is refused now.
         const double budget = request.budget_bytes > 0 ? request.budget_bytes : static_cast<double>(default_memory_budget());
-        const int threads = request.threads > 0 ? request.threads : 1;
+        const int threads = request.threads > 0 ? request.threads : 1;  // every core: the node's count is not known here
         const Shape tile_shape{s.frames, std::min(s.height, rows + 2 * halo), s.width, s.channels};
         check_memory_budget(low_rank->min_bytes(tile_shape, threads), budget,
                             "a tile task (" + std::to_string(tile_shape.height) + " rows of every frame)");

@@ -116,7 +116,9 @@ def denoise(input: str, output: str, client: Any = None, method: Optional[str] =
     client:    a dask.distributed Client; None = a LocalCluster of two single-threaded worker
                processes for the call.
     method, **params: as ``statfilter denoise`` (``quality="fast"`` is method auto).
-    tiles, tile_rows, frames_per_task, work_dir: how the plan cuts the shot (sf_plan_options).
+    tiles, tile_rows, frames_per_task: how the plan cuts the shot (sf_plan_options).
+    work_dir:  where the plan and its work files go, on storage every worker sees (default: a hidden
+               directory beside the output, removed afterwards unless keep_work).
     memory, threads: each task's budget and threads (threads=1: one task per worker thread).
     retries:   times Dask reruns a task whose worker died (tasks are idempotent).
     Returns the report: the plan's kind and reason, tasks, bytes read and written, seconds per phase,
