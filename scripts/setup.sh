@@ -12,7 +12,8 @@ APT_PACKAGES=(
   clang libclang-rt-dev  # libFuzzer, for scripts/fuzz.sh
   chromium  # headless screenshot of the review page (tests/python/test_report.py)
 )
-PY_PACKAGES=(numpy pytest jsonschema)  # and pyoidn, below; jsonschema: tests/cli/test_crops_schema.py
+PY_PACKAGES=(numpy pytest jsonschema "dask[distributed]")  # and pyoidn, below; jsonschema: tests/cli/test_crops_schema.py;
+# dask[distributed]: tests/python/test_distributed.py (the package itself works without it)
 
 missing=()
 for p in "${APT_PACKAGES[@]}"; do
@@ -31,7 +32,7 @@ PYTHON="${PYTHON:-python3}"
 pip_install() {
   "$PYTHON" -m pip install -q "$@" 2>/dev/null || "$PYTHON" -m pip install -q --break-system-packages "$@"
 }
-if ! "$PYTHON" -c "import numpy, pytest, jsonschema" 2>/dev/null; then
+if ! "$PYTHON" -c "import numpy, pytest, jsonschema, dask.distributed" 2>/dev/null; then
   echo "setup: installing ${PY_PACKAGES[*]} for $PYTHON" >&2
   pip_install "${PY_PACKAGES[@]}"
 fi

@@ -94,6 +94,11 @@ Args::Args(int argc, char** argv, int first, const std::set<std::string>& flags,
         if (arg.size() < 3 || arg.compare(0, 2, "--") != 0) {
             if (arg == "-h") { flags_.insert("help"); continue; }
             if (arg == "-q") { flags_.insert("quiet"); continue; }
+            if (arg == "-o" && options.count("output-file")) {  // a command's output file (plan -o PLAN)
+                if (i + 1 >= argc) throw UsageError("-o needs a file");
+                options_["output-file"] = argv[++i];
+                continue;
+            }
             if (arg.size() == 2 && arg[0] == '-' && arg != "-") throw UsageError("unknown option " + arg);
             positionals_.push_back(arg);
             continue;

@@ -6,6 +6,7 @@
 #include "cli_common.hpp"
 #include "cli_images.hpp"
 #include "cli_json.hpp"
+#include "cli_run_setup.hpp"
 #include "commands.hpp"
 
 namespace statfilter_cli {
@@ -38,30 +39,6 @@ void print_parameters(const std::string& name) {
     }
 }
 
-std::string dashes_to_underscores(std::string s) {
-    for (char& c : s)
-        if (c == '-') c = '_';
-    return s;
-}
-
-// --memory SIZE and --threads N into the run options (usage errors name the option).
-sf_run_options run_options(const Args& args) {
-    sf_run_options run;
-    sf_run_options_init(&run);
-    if (args.has("memory") && sf_memory_size_parse(args.option("memory").c_str(), &run.memory) != SF_OK)
-        throw UsageError("--memory: " + std::string(sf_last_error()));
-    if (args.has("threads")) {
-        const std::string text = args.option("threads");
-        char* end = nullptr;
-        const long n = std::strtol(text.c_str(), &end, 10);
-        if (text.empty() || *end != '\0' || n < 0 || n > 4096)
-            throw UsageError("--threads takes a count of threads (0 = every core), got '" + text + "'");
-        run.threads = static_cast<int>(n);
-    }
-    run.overwrite = args.flag("overwrite") ? 1 : 0;
-    return run;
-}
-
 // OUT, or --into PATTERN: copies of the input frames with the filtered channels put back.
 std::string output_pattern(const Args& args) {
     if (!args.has("into")) {
@@ -85,9 +62,7 @@ int run_filter(const Args& args, const std::string& method) {
     const auto saves = parse_save_list(args.option("save"));  // checked before any work
     sf_run_options run = run_options(args);
     FilterHandle filter(method);
-    // Every --name VALUE that is not a common option is a parameter of the filter.
-    for (const auto& [name, value] : args.extras())
-        filter.check(sf_filter_set_string(filter.get(), dashes_to_underscores(name).c_str(), value.c_str()));
+    set_filter_parameters(filter, args);
     check_save_list(filter, method, saves);
     // --vectors PATTERN: the renderer's motion vectors (Cycles' Vector pass: X, Y, Z, W) as the
     // filter's named input "vectors", read for the same frames as the input; a filter that does not
@@ -153,30 +128,25 @@ int run_filter(const Args& args, const std::string& method) {
 }
 
 const std::set<std::string> kFlags = {"float", "clamp-half", "json", "quiet", "help", "overwrite"};
-const std::set<std::string> kRunOptions = {"memory", "threads", "into"};
-const char* const kRunHelp =
-    "run:\n"
-    "  --memory SIZE           memory budget, e.g. 512M or 6G (default: half of physical memory); a run\n"
-    "                          that cannot fit is refused before any work, naming the size it needs\n"
-    "  --threads N             threads (default 0: every core)\n"
-    "  --overwrite             let OUT replace frames of IN (refused otherwise)\n"
+// --into PATTERN: copy and denoise only (a plan writes frames of its own).
+const char* const kIntoHelp =
     "  --into PATTERN          instead of OUT: write each frame into a copy of its input file, the filtered\n"
     "                          channels in place, every other part, channel and header kept as it was\n";
 
 }  // namespace
 
 int cmd_copy(int argc, char** argv) {
-    const Args args(argc, argv, 2, kFlags, merged({kInputOptions, kOutputOptions, kRunOptions}), {});
+    const Args args(argc, argv, 2, kFlags, merged({kInputOptions, kOutputOptions, kRunOptions, {"into"}}), {});
     if (args.flag("help")) {
         std::printf("usage: statfilter copy IN OUT|--into PATTERN [options]\n\nReads a sequence and writes it unchanged through the "
-                    "filter path (bit-exact with --float).\n\n%s\n%s\n%s  --json, --quiet\n", kInputHelp, kOutputHelp, kRunHelp);
+                    "filter path (bit-exact with --float).\n\n%s\n%s\n%s%s  --json, --quiet\n", kInputHelp, kOutputHelp, kRunHelp, kIntoHelp);
         return 0;
     }
     return run_filter(args, "copy");
 }
 
 int cmd_denoise(int argc, char** argv) {
-    const Args args(argc, argv, 2, kFlags, merged({kInputOptions, kOutputOptions, kRunOptions, {"method", "save", "vectors"}}));
+    const Args args(argc, argv, 2, kFlags, merged({kInputOptions, kOutputOptions, kRunOptions, {"method", "save", "vectors", "into"}}));
     if (args.flag("help")) {
         std::printf("usage: statfilter denoise IN OUT|--into PATTERN [--quality fast|balanced|high | --method NAME] [--PARAM VALUE ...]\n"
                     "                           [options]\n\n"
@@ -186,21 +156,12 @@ int cmd_denoise(int argc, char** argv) {
                     "Methods and their parameters (from the library):\n",
                     kDefaultMethod, kDefaultMethodWithPrefilter);
         for (int i = 0; i < sf_filter_count(); ++i) print_parameters(sf_filter_name(i));
-        std::printf("\n%s\n%s\n%s  --save NAME=PATH[,...]  write image results, e.g. rank_map=ranks.exr (PNG: false colour)\n"
+        std::printf("\n%s\n%s\n%s%s  --save NAME=PATH[,...]  write image results, e.g. rank_map=ranks.exr (PNG: false colour)\n"
                     "  --vectors PATTERN       the renderer's motion vectors (Cycles Vector pass) for the hybrid and --quality\n"
-                    "  --json                  report on stdout\n  --quiet, -q\n", kInputHelp, kOutputHelp, kRunHelp);
+                    "  --json                  report on stdout\n  --quiet, -q\n", kInputHelp, kOutputHelp, kRunHelp, kIntoHelp);
         return 0;
     }
-    bool prefiltered = false, quality = false;
-    for (const auto& [name, value] : args.extras()) {
-        prefiltered = prefiltered || (name == "prefilter" && !value.empty());
-        quality = quality || name == "quality";
-    }
-    // --quality is a parameter of the auto filter, which picks the method itself.
-    if (quality && !args.option("method").empty() && args.option("method") != "auto")
-        throw UsageError("--quality picks the method itself (it is a parameter of --method auto); give one or the other");
-    if (quality) return run_filter(args, "auto");
-    return run_filter(args, args.option("method", prefiltered ? kDefaultMethodWithPrefilter : kDefaultMethod));
+    return run_filter(args, denoise_method(args));
 }
 
 }  // namespace statfilter_cli

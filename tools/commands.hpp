@@ -20,5 +20,7 @@ int cmd_motion(int argc, char** argv);
 int cmd_detect(int argc, char** argv);
 int cmd_merge(int argc, char** argv);
 int cmd_report(int argc, char** argv);
+int cmd_plan(int argc, char** argv);
+int cmd_task(int argc, char** argv);
 
 }  // namespace statfilter_cli

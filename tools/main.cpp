@@ -25,6 +25,8 @@ const char* const kUsage =
     "  motion IN           motion maps: alpha (1 = still) and beta (per frame, 1 = moving)\n"
     "  detect DENOISED     pixel-frames still wrong after denoising: mask, crop windows (--noisy NOISY)\n"
     "  merge DEN RR OUT    splice re-rendered pixels (full frames or crop windows) into the denoised\n"
+    "  plan IN OUT -o P    the denoise run as tasks for a render farm or Dask (docs/distributed.md)\n"
+    "  task PLAN N         run task N of a plan\n"
     "  compare TEST REF    error of a sequence against a reference (relMSE, PSNR, flicker)\n"
     "  report IN OUT       a review page: before/after, motion and rank maps, error per frame\n"
     "                      (-o report.html; made by the Python package: statfilter report --help)\n"
@@ -53,7 +55,8 @@ int main(int argc, char** argv) {
     const std::map<std::string, int (*)(int, char**)> commands = {
         {"info", cmd_info},       {"copy", cmd_copy},     {"denoise", cmd_denoise}, {"compare", cmd_compare},
         {"plugins", cmd_plugins}, {"motion", cmd_motion}, {"detect", cmd_detect},   {"merge", cmd_merge},
-        {"report", cmd_report},   {"version", print_version}};
+        {"report", cmd_report},   {"plan", cmd_plan},     {"task", cmd_task},
+        {"version", print_version}};
     try {
         if (command == "--version") return print_version(argc, argv);
         const auto found = commands.find(command);

@@ -103,14 +103,18 @@ public:
     double min_bytes(const Shape& shape, int threads) const override { return inner_->min_bytes(shape, threads); }
     void run(const FrameSource& source, const FrameConsumer& consume, const StageContext& context,
              Results& results) override {
-        // Known before the first frame, so the frames can say what made them.
+        annotate(results);  // known before the first frame, so the frames can say what made them
+        Results own;
+        inner_->run(source, consume, context, own);
+        add_stage_results(choice_.method, own, results);
+    }
+
+    const StreamStage& core() const override { return *inner_; }
+    void annotate(Results& results) const override {
         results.set("method", choice_.method);
         results.set("reason", choice_.reason);
         results.set("quality", "fast");
         results.set("transform", transform_);
-        Results own;
-        inner_->run(source, consume, context, own);
-        add_stage_results(choice_.method, own, results);
     }
 
 private:

@@ -126,28 +126,17 @@ LowRankStatistics LowRankStage::statistics(const FrameSource& source, const Stag
         m.gram.assign(static_cast<size_t>(F * F), 0.0);
         models.push_back(std::move(m));
     }
-    // The transform's scale of each group, measured once before the passes (on the frames
-    // transform_level_frames picks, read here when the shot is not in memory), so every band and tile
-    // sees the same transform.
-    std::unique_ptr<Sequence> level_frames;
-    for (LowRankStatistics::Group& m : models) {
-        m.prep = options_.prep;
-        if (m.prep.scale > 0 || m.prep.transform == ValueTransform::None) continue;
-        const Sequence* probe = source.in_memory();
-        if (!probe) {
-            if (!level_frames) {
-                const std::vector<int64_t> picked = transform_level_frames(F);
-                const Shape ps{static_cast<int64_t>(picked.size()), s.height, s.width, s.channels};
-                level_frames = std::make_unique<Sequence>(ps);
-                for (size_t i = 0; i < picked.size(); ++i)
-                    source.read_rows(picked[i], 0, s.height, &level_frames->at(static_cast<int64_t>(i), 0, 0, 0));
-            }
-            probe = level_frames.get();
-        }
-        m.prep.scale = m.prep.scale_factor * transform_level(*probe, m.group);
-        if (!(m.prep.scale > 0) || !std::isfinite(m.prep.scale)) m.prep.scale = 1.0;
+    // The transform's scale of each group, measured once before the passes (or carried by a plan),
+    // so every band and tile sees the same transform.
+    const std::vector<double> scales = options_.scales.empty() ? transform_scales(source) : options_.scales;
+    if (scales.size() != models.size())
+        throw Error(Status::InvalidArgument, "the plan carries " + std::to_string(scales.size()) +
+                                                 " transform scales but the shot has " + std::to_string(models.size()) +
+                                                 " channel groups");
+    for (size_t g = 0; g < models.size(); ++g) {
+        models[g].prep = options_.prep;
+        if (scales[g] > 0) models[g].prep.scale = scales[g];
     }
-    level_frames.reset();
 
     // Band height: the whole shot when it is in memory, else as many rows as the budget leaves. A
     // single band (the shot fits) is kept, with its prepared tiles, for the second pass: one read.
@@ -177,12 +166,44 @@ LowRankStatistics LowRankStage::statistics(const FrameSource& source, const Stag
         for (size_t g = 0; g < models.size(); ++g) {
             LowRankStatistics::Group& m = models[g];
             stats.series(g, *band, y0).read({progress, at + span * (0.5 + 0.5 * g / models.size()), 0.5 * span / models.size(), "basis"},
-                                        [&](const PreparedTile& t) { accumulate_gram(t, F, m.gram); m.series += t.n; });
+                                        [&](const PreparedTile& t) {
+                                            if (options_.gram) accumulate_gram(t, F, m.gram);
+                                            m.series += t.n;
+                                        });
         }
         if (keep) stats.kept_band = std::move(band);
     }
     stats.fireflies_known = true;
     return stats;
+}
+
+std::vector<double> LowRankStage::transform_scales(const FrameSource& source) const {
+    const Shape& s = source.shape();
+    std::vector<double> scales;
+    // Read here when the shot is not in memory: the frames transform_level_frames picks.
+    std::unique_ptr<Sequence> level_frames;
+    for (const ChannelSelection& g : basis_groups(s, options_.shared_basis)) {
+        SeriesPrep prep = options_.prep;
+        if (prep.scale > 0 || prep.transform == ValueTransform::None) {
+            scales.push_back(prep.scale);
+            continue;
+        }
+        const Sequence* probe = source.in_memory();
+        if (!probe) {
+            if (!level_frames) {
+                const std::vector<int64_t> picked = transform_level_frames(s.frames);
+                const Shape ps{static_cast<int64_t>(picked.size()), s.height, s.width, s.channels};
+                level_frames = std::make_unique<Sequence>(ps);
+                for (size_t i = 0; i < picked.size(); ++i)
+                    source.read_rows(picked[i], 0, s.height, &level_frames->at(static_cast<int64_t>(i), 0, 0, 0));
+            }
+            probe = level_frames.get();
+        }
+        double scale = prep.scale_factor * transform_level(*probe, g);
+        if (!(scale > 0) || !std::isfinite(scale)) scale = 1.0;
+        scales.push_back(scale);
+    }
+    return scales;
 }
 
 PreparedSeries& LowRankStatistics::series(size_t g, const Sequence& band, int64_t y0) {
@@ -219,10 +240,11 @@ void LowRankStage::reconstruct(const FrameSource& source, LowRankStatistics stat
         m.gram = std::move(g.gram);
         m.series = g.series;
         m.prep = g.prep;
+        if (g.basis) m.basis = *g.basis;
         models.push_back(std::move(m));
     }
     for (GroupModel& m : models) {
-        m.basis = basis_from_gram(std::move(m.gram), F, m.series);
+        if (m.basis.frames == 0) m.basis = basis_from_gram(std::move(m.gram), F, m.series);
         if (options_.per_pixel) {
             m.stored = std::min(options_.max_rank, max_useful_rank(m.basis.series, m.basis.frames));
             for (int64_t i = 0; i < m.stored; ++i)

@@ -33,6 +33,12 @@ struct LowRankOptions {
     int64_t max_rank = 8;
     double threshold = 2;
     int window = 9;
+    // Each channel group's transform scale, measured once on the whole shot by a plan of tile tasks
+    // (transform_scales); empty = measured by the statistics pass on its own source.
+    std::vector<double> scales;
+    // false: the statistics pass finds the fireflies and keeps the band but sums no Gram (a tile
+    // task that is handed the reduction of every tile's Gram).
+    bool gram = true;
 };
 
 // What the statistics pass found: each channel group's transform scale, Gram and series count, and
@@ -44,6 +50,9 @@ struct LowRankStatistics {
         SeriesPrep prep;  // the options' preparation with this group's transform scale fixed
         std::vector<double> gram;
         int64_t series = 0;
+        // The basis already made from the gram (a plan's reduction of every tile's Gram); null =
+        // made by reconstruct.
+        std::shared_ptr<const TemporalBasis> basis;
     };
     std::vector<Group> groups;
     int64_t rows = 0, bands = 0;  // band height and count of the statistics pass
@@ -82,6 +91,9 @@ public:
     void reconstruct(const FrameSource& source, LowRankStatistics statistics, const FrameConsumer& consume,
                      const StageContext& context, Results& results) const;
     const LowRankOptions& options() const { return options_; }
+    // Each channel group's transform scale as the statistics pass measures it on this source (on
+    // the frames transform_level_frames picks); 0 where the transform needs none.
+    std::vector<double> transform_scales(const FrameSource& source) const;
 
     // Bytes held besides the band while the passes read the shot, with `rank` components per series;
     // bytes held while the frames are rebuilt (no band then); the larger of the two with a band of

@@ -31,6 +31,11 @@ public:
     virtual double min_bytes(const Shape& shape, int threads) const = 0;
     virtual void run(const FrameSource& source, const FrameConsumer& consume, const StageContext& context,
                      Results& results) = 0;
+    // A wrapper's inner stage (a preset's annotated stage), for a plan of tile tasks that runs the
+    // inner stage's passes itself; else this stage.
+    virtual const StreamStage& core() const { return *this; }
+    // What a wrapper reports before its inner stage runs (the preset's choice and reason).
+    virtual void annotate(Results& results) const { (void)results; }
 };
 
 // The stage over a sequence in memory: the source is the sequence itself (no copy), the frames go

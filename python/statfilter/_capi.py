@@ -207,10 +207,19 @@ class sf_merge_options(Structure):
                 ("progress_user", c_void_p)]
 
 
+class sf_plan_options(Structure):
+    _fields_ = [("struct_size", c_size_t),
+                ("tiles", c_int64),
+                ("tile_rows", c_int64),
+                ("frames_per_task", c_int64),
+                ("work_dir", c_char_p)]
+
+
 STRUCTS = {cls.__name__: cls for cls in (sf_shape, sf_strides, sf_channel_stats, sf_comparison, sf_read_options,
                                          sf_write_options, sf_param_info, sf_filter_info, sf_plugin_run,
                                          sf_plugin)}
-STRUCTS.update({cls.__name__: cls for cls in (sf_crop_window, sf_merge_options, sf_run_options, sf_window)})
+STRUCTS.update({cls.__name__: cls for cls in (sf_crop_window, sf_merge_options, sf_run_options, sf_window,
+                                              sf_plan_options)})
 
 # ---- functions: name -> (restype, [argtypes]) -------------------------------------------------
 
@@ -276,6 +285,12 @@ FUNCTIONS = {
     "sf_memory_size_parse": (sf_status, [c_char_p, _P(c_int64)]),
     "sf_filter_run": (sf_status, [sf_filter, c_char_p, _P(sf_read_options), c_char_p, _P(sf_write_options),
                                   _P(sf_run_options)]),
+    # a run as tasks for a distributed engine or a render farm
+    "sf_plan_options_init": (None, [_P(sf_plan_options)]),
+    "sf_plan_write": (sf_status, [sf_filter, c_char_p, _P(sf_read_options), c_char_p, _P(sf_write_options),
+                                  _P(sf_run_options), _P(sf_plan_options), c_char_p]),
+    "sf_plan_task_count": (sf_status, [c_char_p, _P(c_int64)]),
+    "sf_plan_run_task": (sf_status, [c_char_p, c_int64, _P(sf_run_options)]),
     # artifact detection, re-render list and merge
     "sf_filter_set_input": (sf_status, [sf_filter, c_char_p, sf_sequence]),
     "sf_crops_windows": (sf_status, [c_char_p, _P(sf_crop_window), c_size_t, _P(c_size_t), _P(c_int64), _P(c_int64)]),

@@ -304,6 +304,47 @@ SF_API sf_status sf_memory_size_parse(const char* text, int64_t* bytes);
 SF_API sf_status sf_filter_run(sf_filter filter, const char* input_pattern, const sf_read_options* read,
                                const char* output_pattern, const sf_write_options* write, const sf_run_options* run);
 
+/* ---- a run as tasks for a distributed engine or a render farm ----------------------------- */
+
+typedef struct sf_plan_options {
+    size_t struct_size;        /* sizeof(sf_plan_options), set by sf_plan_options_init */
+    int64_t tiles;             /* bands of full-width rows to cut the shot into; 0 = from tile_rows */
+    int64_t tile_rows;         /* rows per band; both 0 = 256 rows */
+    int64_t frames_per_task;   /* frames per assembly or per-frame task; 0 = 8 */
+    const char* work_dir;      /* where the tasks exchange files (shared storage); NULL/"" =
+                                  "<plan_path>.work" */
+} sf_plan_options;
+
+SF_API void sf_plan_options_init(sf_plan_options* options);
+
+/* Writes a plan (JSON, atomically) of the tasks that run the filter from input_pattern to
+ * output_pattern as sf_filter_run would, for any scheduler to run with sf_plan_run_task. A filter
+ * whose stage is the global low-rank one (pca, error-threshold, auto with quality=fast, no prefilter
+ * or postfilter) is cut into bands of rows of every frame: "statistics" tasks (one per band: its
+ * partial Gram), one "reduce" task after them all (sums the partials in band order, makes the basis),
+ * "reconstruct" tasks after it (one per band, reading its halo rows too), then "assemble" tasks (each
+ * writes its chunk of output frames from the bands). A per-frame filter is cut into chunks of frames
+ * ("frames" tasks, independent). Any other filter is one "shot" task. Each task lists the tasks it
+ * must run "after". run->memory and run->threads are each task's defaults. Checked before the plan is
+ * written, as sf_filter_run checks before work: the filter, every input frame's header, the output
+ * (pattern, compression, directory), and that a band task fits the memory; a plan cannot overwrite
+ * its input (run->overwrite is refused: tasks read the input while others write). */
+SF_API sf_status sf_plan_write(sf_filter filter, const char* input_pattern, const sf_read_options* read,
+                               const char* output_pattern, const sf_write_options* write, const sf_run_options* run,
+                               const sf_plan_options* plan, const char* plan_path);
+
+/* The number of tasks in a plan file. */
+SF_API sf_status sf_plan_task_count(const char* plan_path, int64_t* count);
+
+/* Runs task `task` (0-based) of a plan file, on any node that sees the plan's input, output and work
+ * directory. A task's outputs are written to temporaries and renamed into place, so a task that dies
+ * can be run again, and a finished task run again rewrites the same outputs. Output frames appear
+ * only in "assemble", "frames" and "shot" tasks, each frame by one rename. When the task has finished,
+ * its report (JSON: seconds, CPU seconds, bytes read and written, results) is in
+ * "<work_dir>/task-<task>.json". run->memory and run->threads override the plan's when not 0;
+ * run->progress reports the task. */
+SF_API sf_status sf_plan_run_task(const char* plan_path, int64_t task, const sf_run_options* run);
+
 /* ---- filter plugins ----------------------------------------------------------------------- */
 
 /* A filter can live in its own shared library, a plugin: statfilter_plugin.h (included above)

@@ -1,0 +1,216 @@
+// sf_plan_*: a run written as a plan of tasks, and one task of it run (lib/distributed/).
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "api_guard.hpp"
+#include "distributed/tile_files.hpp"
+#include "distributed/tile_plan.hpp"
+#include "options.hpp"
+#include "statfilter/filter_registry.hpp"
+#include "statfilter/json.hpp"
+
+using namespace statfilter;
+using namespace statfilter::capi;
+
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string text_member(const JsonValue& object, const char* key) {
+    const JsonValue* v = object.find(key);
+    return v && v->is(JsonValue::Type::String) ? v->string() : std::string();
+}
+double number_member(const JsonValue& object, const char* key) {
+    const JsonValue* v = object.find(key);
+    return v && v->is(JsonValue::Type::Number) ? v->number() : 0;
+}
+
+// The front end's settings a task needs to do what sf_filter_run would: the filter by name and its
+// parameters not at their defaults, the read and write options.
+std::string front_end_json(const std::string& name, const Filter& f, const sf_read_options& r, const sf_write_options& w) {
+    std::ostringstream o;
+    o << "{\"filter\": " << json_quote(name) << ", \"parameters\": {";
+    bool first = true;
+    for (const ParamSpec& spec : f.params().specs()) {
+        const std::string& value = f.params().get_string(spec.name);
+        if (value == spec.default_value) continue;
+        o << (first ? "" : ", ") << json_quote(spec.name) << ": " << json_quote(value);
+        first = false;
+    }
+    auto text = [](const char* s) { return json_quote(text_or_empty(s)); };
+    o << "}, \"read\": {\"channels\": " << text(r.channels) << ", \"frames\": " << text(r.frames)
+      << ", \"ocio_config\": " << text(r.ocio_config) << ", \"colorspace_in\": " << text(r.colorspace_in)
+      << ", \"colorspace_out\": " << text(r.colorspace_out) << "}";
+    o << ", \"write\": {\"pixel_type\": " << static_cast<int>(w.pixel_type) << ", \"compression\": " << text(w.compression)
+      << ", \"ocio_config\": " << text(w.ocio_config) << ", \"colorspace_in\": " << text(w.colorspace_in)
+      << ", \"colorspace_out\": " << text(w.colorspace_out) << ", \"half_overflow\": " << w.half_overflow
+      << ", \"tile_size\": " << w.tile_size << "}}";
+    return o.str();
+}
+
+// The strings an sf_read_options / sf_write_options made from a plan point into.
+struct FrontEnd {
+    std::string filter, channels, frames, r_ocio, r_in, r_out, compression, w_ocio, w_in, w_out;
+    sf_read_options read;
+    sf_write_options write;
+    std::vector<std::pair<std::string, std::string>> parameters;
+};
+
+const char* or_null(const std::string& s) { return s.empty() ? nullptr : s.c_str(); }
+
+std::unique_ptr<FrontEnd> front_end_from(const JsonValue& plan) {
+    const JsonValue* fe = plan.find("front_end");
+    if (!fe || !fe->is(JsonValue::Type::Object)) throw Error(Status::InvalidArgument, "the plan has no front_end settings");
+    auto out = std::make_unique<FrontEnd>();
+    out->filter = text_member(*fe, "filter");
+    if (const JsonValue* p = fe->find("parameters"))
+        for (const auto& [name, value] : p->members()) out->parameters.emplace_back(name, value.string());
+    sf_read_options_init(&out->read);
+    sf_write_options_init(&out->write);
+    if (const JsonValue* r = fe->find("read")) {
+        out->channels = text_member(*r, "channels");
+        out->frames = text_member(*r, "frames");
+        out->r_ocio = text_member(*r, "ocio_config");
+        out->r_in = text_member(*r, "colorspace_in");
+        out->r_out = text_member(*r, "colorspace_out");
+    }
+    if (const JsonValue* w = fe->find("write")) {
+        out->compression = text_member(*w, "compression");
+        out->w_ocio = text_member(*w, "ocio_config");
+        out->w_in = text_member(*w, "colorspace_in");
+        out->w_out = text_member(*w, "colorspace_out");
+        out->write.pixel_type = static_cast<sf_pixel_type>(number_member(*w, "pixel_type"));
+        out->write.half_overflow = static_cast<int>(number_member(*w, "half_overflow"));
+        out->write.tile_size = static_cast<int>(number_member(*w, "tile_size"));
+    }
+    out->read.channels = or_null(out->channels);
+    out->read.frames = or_null(out->frames);
+    out->read.ocio_config = or_null(out->r_ocio);
+    out->read.colorspace_in = or_null(out->r_in);
+    out->read.colorspace_out = or_null(out->r_out);
+    out->write.compression = or_null(out->compression);
+    out->write.ocio_config = or_null(out->w_ocio);
+    out->write.colorspace_in = or_null(out->w_in);
+    out->write.colorspace_out = or_null(out->w_out);
+    return out;
+}
+
+JsonValue read_plan(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) throw Error(Status::Io, "cannot open plan '" + path + "'");
+    std::ostringstream text;
+    text << in.rdbuf();
+    try {
+        JsonValue plan = parse_json(text.str());
+        const JsonValue* format = plan.find("format");
+        if (!format || !format->is(JsonValue::Type::String) || format->string() != "statfilter-plan")
+            throw Error(Status::InvalidArgument, "not a statfilter plan");
+        return plan;
+    } catch (const Error& e) {
+        throw Error(e.status(), "plan '" + path + "': " + e.what());
+    }
+}
+
+std::string absolute(const std::string& path) { return fs::absolute(path).lexically_normal().string(); }
+
+}  // namespace
+
+extern "C" {
+
+void sf_plan_options_init(sf_plan_options* options) {
+    if (!options) return;
+    std::memset(options, 0, sizeof *options);
+    options->struct_size = sizeof *options;
+}
+
+sf_status sf_plan_write(sf_filter filter, const char* input_pattern, const sf_read_options* read,
+                        const char* output_pattern, const sf_write_options* write, const sf_run_options* run,
+                        const sf_plan_options* plan, const char* plan_path) {
+    std::string* handle_error = filter ? &filter->last_error : nullptr;
+    return guarded([&] {
+        sf_filter_s& handle = require(filter, "filter");
+        const sf_run_options r = read_versioned(run, sf_run_options_init);
+        const sf_plan_options p = read_versioned(plan, sf_plan_options_init);
+        const sf_read_options ro_c = read_versioned(read, sf_read_options_init);
+        const sf_write_options wo_c = read_versioned(write, sf_write_options_init);
+        if (r.memory < 0) throw Error(Status::InvalidArgument, "run.memory must be >= 0 bytes (0 = the default)");
+        if (r.threads < 0) throw Error(Status::InvalidArgument, "run.threads must be >= 0 (0 = every core)");
+        if (r.overwrite)
+            throw Error(Status::InvalidArgument, "a plan cannot overwrite its input: its tasks read the input while others write");
+        const std::string in = absolute(require_string(input_pattern, "input_pattern"));
+        const std::string out = absolute(require_string(output_pattern, "output_pattern"));
+        const std::string path = require_string(plan_path, "plan_path");
+        handle.filter->check();
+        ReadOptions ro = read_options_from(&ro_c);
+        WriteOptions wo = write_options_from(&wo_c);
+        ro.progress = Progress();
+        wo.progress = Progress();
+        auto source = open_frame_source(in, ro);
+        OutputChecks checks;
+        checks.width = source->shape().width;
+        checks.height = source->shape().height;
+        checks.input_pattern = in;
+        open_frame_sink(out, wo, source->attributes(), checks);  // the output's checks, now; nothing written
+        PlanRequest request;
+        request.input = in;
+        request.output = out;
+        request.work_dir = absolute(p.work_dir && *p.work_dir ? std::string(p.work_dir) : path + ".work");
+        request.tiles = p.tiles;
+        request.tile_rows = p.tile_rows;
+        request.frames_per_task = p.frames_per_task;
+        request.budget_bytes = static_cast<double>(r.memory);
+        request.threads = r.threads;
+        request.front_end = front_end_json(handle.name, *handle.filter, ro_c, wo_c);
+        const std::string text = make_plan(*handle.filter, *source, request);
+        fs::create_directories(request.work_dir);
+        AtomicFile file(path);
+        file.write_at(0, text.data(), text.size());
+        file.commit();
+    }, handle_error);
+}
+
+sf_status sf_plan_task_count(const char* plan_path, int64_t* count) {
+    return guarded([&] { require(count, "count") = plan_task_count(read_plan(require_string(plan_path, "plan_path"))); });
+}
+
+sf_status sf_plan_run_task(const char* plan_path, int64_t task, const sf_run_options* run) {
+    return guarded([&] {
+        const JsonValue plan = read_plan(require_string(plan_path, "plan_path"));
+        const sf_run_options r = read_versioned(run, sf_run_options_init);
+        if (r.memory < 0) throw Error(Status::InvalidArgument, "run.memory must be >= 0 bytes (0 = the plan's)");
+        if (r.threads < 0) throw Error(Status::InvalidArgument, "run.threads must be >= 0 (0 = the plan's)");
+        const auto fe = front_end_from(plan);
+        auto filter = create_filter(fe->filter);
+        for (const auto& [name, value] : fe->parameters) filter->params().set_string(name, value);
+        filter->check();
+        ReadOptions ro = read_options_from(&fe->read);
+        WriteOptions wo = write_options_from(&fe->write);
+        ro.progress = Progress();
+        wo.progress = Progress();
+        const JsonValue* input = plan.find("input");
+        if (!input || !input->is(JsonValue::Type::String)) throw Error(Status::InvalidArgument, "the plan has no input");
+        auto source = open_frame_source(input->string(), ro);
+        TaskContext context;
+        context.filter = filter.get();
+        context.source = source.get();
+        context.open_sink = [&](const std::string& pattern, const Sequence& attributes) {
+            OutputChecks checks;
+            checks.width = source->shape().width;
+            checks.height = source->shape().height;
+            checks.input_pattern = input->string();
+            return open_frame_sink(pattern, wo, attributes, checks);
+        };
+        std::string changed;
+        for (const auto& [name, value] : fe->parameters) changed += (changed.empty() ? "" : " ") + name + "=" + value;
+        context.attributes = {{"statfilter:version", sf_version_string()},
+                              {"statfilter:filter", fe->filter},
+                              {"statfilter:parameters", changed}};
+        context.budget_bytes = static_cast<double>(r.memory);
+        context.threads = r.threads;
+        context.progress = make_progress(r.progress, r.progress_user);
+        run_plan_task(plan, task, context);
+    });
+}
+
+}  // extern "C"

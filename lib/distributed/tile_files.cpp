@@ -1,0 +1,153 @@
+#include "distributed/tile_files.hpp"
+
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstring>
+#include <filesystem>
+
+#include "statfilter/error.hpp"
+
+namespace statfilter {
+namespace {
+
+namespace fs = std::filesystem;
+constexpr char kMagic[8] = {'S', 'F', 'S', 'T', 'A', 'T', 'S', '1'};
+
+std::string system_error(const std::string& what, const std::string& path) {
+    return what + " '" + path + "': " + std::strerror(errno);
+}
+
+// The temporary is named by host and process: two nodes running the same task never share one.
+std::string temporary_name(const std::string& path) {
+    char host[256] = {};
+    if (::gethostname(host, sizeof host - 1) != 0) host[0] = '\0';
+    return path + ".tmp-" + host + "-" + std::to_string(::getpid());
+}
+
+}  // namespace
+
+AtomicFile::AtomicFile(const std::string& path) : path_(path), temporary_(temporary_name(path)) {
+    fd_ = ::open(temporary_.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    if (fd_ < 0) throw Error(Status::Io, system_error("cannot create", temporary_));
+}
+
+AtomicFile::~AtomicFile() {
+    if (fd_ >= 0) ::close(fd_);
+    if (!temporary_.empty()) ::unlink(temporary_.c_str());
+}
+
+void AtomicFile::write_at(int64_t offset, const void* data, size_t bytes) {
+    const char* p = static_cast<const char*>(data);
+    while (bytes > 0) {
+        const ssize_t n = ::pwrite(fd_, p, bytes, static_cast<off_t>(offset));
+        if (n < 0 && errno == EINTR) continue;
+        if (n <= 0) throw Error(Status::Io, system_error("cannot write", temporary_));
+        p += n, offset += n, bytes -= static_cast<size_t>(n);
+    }
+}
+
+void AtomicFile::commit() {
+    if (::close(fd_) != 0) {
+        fd_ = -1;
+        throw Error(Status::Io, system_error("cannot write", temporary_));
+    }
+    fd_ = -1;
+    if (::rename(temporary_.c_str(), path_.c_str()) != 0) throw Error(Status::Io, system_error("cannot rename into", path_));
+    temporary_.clear();
+}
+
+void read_file_at(const std::string& path, int64_t offset, void* data, size_t bytes) {
+    const int fd = ::open(path.c_str(), O_RDONLY);
+    if (fd < 0) throw Error(Status::Io, system_error("cannot open", path) + " (has the task that writes it run?)");
+    char* p = static_cast<char*>(data);
+    while (bytes > 0) {
+        const ssize_t n = ::pread(fd, p, bytes, static_cast<off_t>(offset));
+        if (n < 0 && errno == EINTR) continue;
+        if (n <= 0) {
+            ::close(fd);
+            throw Error(Status::Io, "'" + path + "' is shorter than expected (" + std::to_string(offset) + " bytes)");
+        }
+        p += n, offset += n, bytes -= static_cast<size_t>(n);
+    }
+    ::close(fd);
+}
+
+int64_t tile_statistics_bytes(const TileStatistics& s) {
+    int64_t bytes = 8 + 3 * 8;
+    for (const GroupStatistics& g : s.groups)
+        bytes += 2 * 8 + static_cast<int64_t>(g.gram.size() + g.basis.eigenvalues.size() + g.basis.vectors.size()) * 8;
+    return bytes;
+}
+
+void write_tile_statistics(const std::string& path, const TileStatistics& s) {
+    std::vector<char> out;
+    auto put = [&](const void* p, size_t n) { out.insert(out.end(), static_cast<const char*>(p), static_cast<const char*>(p) + n); };
+    auto put64 = [&](int64_t v) { put(&v, 8); };
+    put(kMagic, 8);
+    put64(s.frames);
+    put64(s.repaired);
+    put64(static_cast<int64_t>(s.groups.size()));
+    const auto FF = static_cast<size_t>(s.frames * s.frames);
+    for (const GroupStatistics& g : s.groups) {
+        if (g.gram.size() != FF) throw Error(Status::Internal, "a Gram of the wrong size for '" + path + "'");
+        put64(g.series);
+        put64(g.basis.frames);
+        put(g.gram.data(), FF * 8);
+        if (g.basis.frames) {
+            put(g.basis.eigenvalues.data(), static_cast<size_t>(s.frames) * 8);
+            put(g.basis.vectors.data(), FF * 8);
+        }
+    }
+    AtomicFile file(path);
+    file.write_at(0, out.data(), out.size());
+    file.commit();
+}
+
+TileStatistics read_tile_statistics(const std::string& path) {
+    std::error_code ec;
+    const auto size = fs::file_size(path, ec);
+    if (ec) throw Error(Status::Io, "cannot read '" + path + "': " + ec.message() + " (has the task that writes it run?)");
+    std::vector<char> in(static_cast<size_t>(size));
+    read_file_at(path, 0, in.data(), in.size());
+    size_t at = 0;
+    auto take = [&](void* p, size_t n) {
+        if (at + n > in.size()) throw Error(Status::Io, "'" + path + "' is truncated or not a statistics file");
+        std::memcpy(p, in.data() + at, n);
+        at += n;
+    };
+    auto take64 = [&] {
+        int64_t v = 0;
+        take(&v, 8);
+        return v;
+    };
+    char magic[8];
+    take(magic, 8);
+    if (std::memcmp(magic, kMagic, 8) != 0) throw Error(Status::Io, "'" + path + "' is not a statfilter statistics file");
+    TileStatistics s;
+    s.frames = take64();
+    s.repaired = take64();
+    const int64_t groups = take64();
+    if (s.frames <= 0 || s.frames > (1 << 20) || groups <= 0 || groups > (1 << 16))
+        throw Error(Status::Io, "'" + path + "' has a bad header");
+    const auto FF = static_cast<size_t>(s.frames * s.frames);
+    for (int64_t i = 0; i < groups; ++i) {
+        GroupStatistics g;
+        g.series = take64();
+        g.basis.frames = take64();
+        g.gram.resize(FF);
+        take(g.gram.data(), FF * 8);
+        if (g.basis.frames) {
+            g.basis.series = g.series;
+            g.basis.eigenvalues.resize(static_cast<size_t>(s.frames));
+            g.basis.vectors.resize(FF);
+            take(g.basis.eigenvalues.data(), static_cast<size_t>(s.frames) * 8);
+            take(g.basis.vectors.data(), FF * 8);
+        }
+        s.groups.push_back(std::move(g));
+    }
+    return s;
+}
+
+}  // namespace statfilter

@@ -1,0 +1,50 @@
+// The files tile tasks exchange through shared storage: a tile's partial statistics (each channel
+// group's series count and F x F Gram), the reduction of them all (the same, plus each group's
+// basis), and a tile's rebuilt rows of every frame (float32, frame-major). All written to a temporary
+// beside the final name and renamed into place, so a reader never sees half a file.
+#pragma once
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "statfilter/temporal_basis.hpp"
+
+namespace statfilter {
+
+struct GroupStatistics {
+    int64_t series = 0;
+    std::vector<double> gram;   // F x F
+    TemporalBasis basis;        // the reduction's (frames == 0 in a partial)
+};
+
+struct TileStatistics {
+    int64_t frames = 0;
+    int64_t repaired = 0;       // non-finite samples repaired
+    std::vector<GroupStatistics> groups;
+};
+
+void write_tile_statistics(const std::string& path, const TileStatistics& statistics);
+TileStatistics read_tile_statistics(const std::string& path);
+// Bytes of the file write_tile_statistics makes.
+int64_t tile_statistics_bytes(const TileStatistics& statistics);
+
+// Writes the whole file at `path` atomically: bytes go to a temporary and are renamed into place.
+class AtomicFile {
+public:
+    explicit AtomicFile(const std::string& path);
+    ~AtomicFile();  // removes the temporary unless committed
+    AtomicFile(const AtomicFile&) = delete;
+    AtomicFile& operator=(const AtomicFile&) = delete;
+    // Writes bytes at offset (thread-safe: positioned writes).
+    void write_at(int64_t offset, const void* data, size_t bytes);
+    void commit();
+
+private:
+    std::string path_, temporary_;
+    int fd_ = -1;
+};
+
+// Reads `bytes` at `offset` of the file at path; names the file when it is missing or short.
+void read_file_at(const std::string& path, int64_t offset, void* data, size_t bytes);
+
+}  // namespace statfilter

@@ -1,0 +1,127 @@
+// make_plan: what runs as which task, from the filter's stage and its footprint.
+#include "distributed/tile_plan.hpp"
+
+#include <algorithm>
+#include <sstream>
+
+#include "filters/frame_stages.hpp"
+#include "pipeline/low_rank_stage.hpp"
+#include "pipeline/memory_budget.hpp"
+#include "pipeline/stage.hpp"
+#include "statfilter/error.hpp"
+
+namespace statfilter {
+namespace {
+
+std::string range_json(int64_t a, int64_t b) { return "[" + std::to_string(a) + ", " + std::to_string(b) + "]"; }
+
+std::string list_json(const std::vector<int64_t>& v) {
+    std::string s = "[";
+    for (size_t i = 0; i < v.size(); ++i) s += (i ? ", " : "") + std::to_string(v[i]);
+    return s + "]";
+}
+
+struct Task {
+    std::string phase;
+    std::string fields;  // the phase's own members, JSON
+    std::vector<int64_t> after;
+};
+
+}  // namespace
+
+std::string make_plan(const Filter& filter, const FrameSource& source, const PlanRequest& request) {
+    filter.check();
+    const Shape& s = source.shape();
+    if (request.tiles < 0 || request.tile_rows < 0 || request.frames_per_task < 0)
+        throw Error(Status::InvalidArgument, "tiles, tile rows and frames per task must be >= 0");
+    if (request.tiles > 0 && request.tile_rows > 0)
+        throw Error(Status::InvalidArgument, "give the number of tiles or the rows per tile, not both");
+    const int64_t per_task = request.frames_per_task > 0 ? request.frames_per_task : 8;
+    const ParamSet& params = filter.params();
+    const bool pre = has_frame_stage(params, "prefilter"), post = has_frame_stage(params, "postfilter");
+    const auto stage = filter.stream_stage();
+    const auto* low_rank = stage ? dynamic_cast<const LowRankStage*>(&stage->core()) : nullptr;
+
+    std::string kind, reason;
+    std::vector<Task> tasks;
+    std::ostringstream extra;
+    if (low_rank && !pre && !post) {
+        kind = "tiles";
+        int64_t rows = request.tile_rows;
+        if (request.tiles > 0) rows = (s.height + request.tiles - 1) / request.tiles;
+        if (rows <= 0) rows = 256;
+        rows = std::min(rows, s.height);
+        const int64_t tiles = (s.height + rows - 1) / rows;
+        const int64_t halo = low_rank->footprint().halo;
+        // Every tile's tasks measure nothing of their own: the transform scale of the whole shot.
+        const std::vector<double> scales = low_rank->transform_scales(source);
+        // Each tile task holds its band (with halo) within the task's budget, or is refused now.
+        const double budget = request.budget_bytes > 0 ? request.budget_bytes : static_cast<double>(default_memory_budget());
+        const int threads = request.threads > 0 ? request.threads : 1;  // every core: the node's count is not known here
+        const Shape tile_shape{s.frames, std::min(s.height, rows + 2 * halo), s.width, s.channels};
+        check_memory_budget(low_rank->min_bytes(tile_shape, threads), budget,
+                            "a tile task (" + std::to_string(tile_shape.height) + " rows of every frame)");
+        reason = "the low-rank stage (" + describe(low_rank->footprint()) + ") as " + std::to_string(tiles) +
+                 " bands of " + std::to_string(rows) + " rows: partial Grams summed in tile order, halo " +
+                 std::to_string(halo) + " rows";
+        extra << "  \"scales\": [";
+        for (size_t i = 0; i < scales.size(); ++i) extra << (i ? ", " : "") << json_number(scales[i]);
+        extra << "],\n  \"halo\": " << halo << ",\n  \"tile_rows\": " << rows << ",\n";
+        std::vector<int64_t> statistics, reconstruct;
+        for (int64_t t = 0; t < tiles; ++t) {
+            const int64_t y0 = t * rows, y1 = std::min(s.height, y0 + rows);
+            statistics.push_back(static_cast<int64_t>(tasks.size()));
+            tasks.push_back({"statistics", "\"tile\": " + std::to_string(t) + ", \"rows\": " + range_json(y0, y1), {}});
+        }
+        const auto reduce = static_cast<int64_t>(tasks.size());
+        tasks.push_back({"reduce", "\"tiles\": " + std::to_string(tiles), statistics});
+        for (int64_t t = 0; t < tiles; ++t) {
+            const int64_t y0 = t * rows, y1 = std::min(s.height, y0 + rows);
+            reconstruct.push_back(static_cast<int64_t>(tasks.size()));
+            tasks.push_back({"reconstruct",
+                             "\"tile\": " + std::to_string(t) + ", \"rows\": " + range_json(y0, y1) + ", \"read_rows\": " +
+                                 range_json(std::max<int64_t>(0, y0 - halo), std::min(s.height, y1 + halo)),
+                             {reduce}});
+        }
+        for (int64_t f = 0; f < s.frames; f += per_task)
+            tasks.push_back({"assemble", "\"frames\": " + range_json(f, std::min(s.frames, f + per_task)), reconstruct});
+    } else if (stage && stage->footprint().reach == TemporalReach::Frame) {
+        kind = "frames";
+        reason = "a per-frame filter (" + describe(stage->footprint()) + "): chunks of " + std::to_string(per_task) +
+                 " whole frames";
+        for (int64_t f = 0; f < s.frames; f += per_task)
+            tasks.push_back({"frames", "\"frames\": " + range_json(f, std::min(s.frames, f + per_task)), {}});
+    } else {
+        kind = "shot";
+        reason = std::string("one task for the whole shot: ") +
+                 (low_rank ? "a prefilter or postfilter around the low-rank stage is not cut into tiles yet"
+                  : stage  ? "the filter's stage (" + describe(stage->footprint()) + ") is not cut into tiles yet"
+                           : "the filter runs on the whole shot in memory");
+        tasks.push_back({"shot", "\"frames\": " + range_json(0, s.frames), {}});
+    }
+
+    std::ostringstream out;
+    out << "{\n  \"format\": \"statfilter-plan\",\n  \"version\": 1,\n";
+    out << "  \"input\": " << json_quote(request.input) << ",\n  \"output\": " << json_quote(request.output) << ",\n";
+    out << "  \"work\": " << json_quote(request.work_dir) << ",\n";
+    out << "  \"front_end\": " << (request.front_end.empty() ? "{}" : request.front_end) << ",\n";
+    out << "  \"memory\": " << json_number(request.budget_bytes) << ",\n  \"threads\": " << request.threads << ",\n";
+    out << "  \"shape\": {\"frames\": " << s.frames << ", \"height\": " << s.height << ", \"width\": " << s.width
+        << ", \"channels\": " << s.channels << "},\n";
+    out << "  \"frame_numbers\": " << list_json(source.attributes().frame_numbers()) << ",\n";
+    out << "  \"kind\": " << json_quote(kind) << ",\n  \"reason\": " << json_quote(reason) << ",\n" << extra.str();
+    out << "  \"tasks\": [\n";
+    for (size_t i = 0; i < tasks.size(); ++i)
+        out << "    {\"index\": " << i << ", \"phase\": " << json_quote(tasks[i].phase) << ", " << tasks[i].fields
+            << ", \"after\": " << list_json(tasks[i].after) << "}" << (i + 1 < tasks.size() ? ",\n" : "\n");
+    out << "  ]\n}\n";
+    return out.str();
+}
+
+int64_t plan_task_count(const JsonValue& plan) {
+    const JsonValue* tasks = plan.find("tasks");
+    if (!tasks || !tasks->is(JsonValue::Type::Array)) throw Error(Status::InvalidArgument, "the plan has no task list");
+    return static_cast<int64_t>(tasks->array().size());
+}
+
+}  // namespace statfilter

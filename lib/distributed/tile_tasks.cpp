@@ -1,0 +1,347 @@
+// run_plan_task: one task of a plan (statistics, reduce, reconstruct, assemble, frames, shot).
+#include <sys/resource.h>
+
+#include <atomic>
+#include <chrono>
+#include <cstdio>
+#include <functional>
+#include <filesystem>
+#include <sstream>
+
+#include "distributed/tile_files.hpp"
+#include "distributed/tile_plan.hpp"
+#include "pipeline/low_rank_stage.hpp"
+#include "pipeline/memory_budget.hpp"
+#include "pipeline/parallel.hpp"
+#include "pipeline/scheduler.hpp"
+#include "pipeline/stage.hpp"
+#include "pipeline/window_source.hpp"
+#include "statfilter/error.hpp"
+#include "statfilter/frame_pattern.hpp"
+
+namespace statfilter {
+namespace {
+
+namespace fs = std::filesystem;
+
+const JsonValue& member(const JsonValue& object, const std::string& key, const std::string& where) {
+    const JsonValue* v = object.find(key);
+    if (!v) throw Error(Status::InvalidArgument, where + " has no '" + key + "'");
+    return *v;
+}
+int64_t integer(const JsonValue& object, const std::string& key, const std::string& where) {
+    return static_cast<int64_t>(member(object, key, where).number());
+}
+std::pair<int64_t, int64_t> range(const JsonValue& object, const std::string& key, const std::string& where) {
+    const JsonValue& v = member(object, key, where);
+    if (!v.is(JsonValue::Type::Array) || v.array().size() != 2)
+        throw Error(Status::InvalidArgument, where + ": '" + key + "' is not a [begin, end) pair");
+    return {static_cast<int64_t>(v.array()[0].number()), static_cast<int64_t>(v.array()[1].number())};
+}
+
+double cpu_seconds() {
+    rusage u{};
+    getrusage(RUSAGE_SELF, &u);
+    return u.ru_utime.tv_sec + u.ru_stime.tv_sec + 1e-6 * (u.ru_utime.tv_usec + u.ru_stime.tv_usec);
+}
+
+// Counts the bytes of pixels a task decodes from the shot (as float samples).
+class CountingSource final : public FrameSource {
+public:
+    CountingSource(const FrameSource& base, std::atomic<int64_t>& bytes) : base_(base), bytes_(bytes) {}
+    const Shape& shape() const override { return base_.shape(); }
+    const Sequence& attributes() const override { return base_.attributes(); }
+    void read_rows(int64_t f, int64_t y0, int64_t y1, float* dst) const override {
+        base_.read_rows(f, y0, y1, dst);
+        bytes_ += (y1 - y0) * base_.shape().width * base_.shape().channels * static_cast<int64_t>(sizeof(float));
+    }
+
+private:
+    const FrameSource& base_;
+    std::atomic<int64_t>& bytes_;
+};
+
+std::string results_json(const Results& r) {
+    std::string s = "{";
+    for (const std::string& name : r.names()) {
+        bool number = true;
+        double v = 0;
+        try {
+            v = r.get_float(name);
+        } catch (const Error&) {
+            number = false;
+        }
+        s += (s.size() > 1 ? ", " : "") + json_quote(name) + ": " + (number ? json_number(v) : json_quote(r.get_string(name)));
+    }
+    return s + "}";
+}
+
+// Paths in the work directory.
+struct Work {
+    std::string dir;
+    std::string partial(int64_t tile) const { return dir + "/partial-" + std::to_string(tile) + ".bin"; }
+    std::string reduced() const { return dir + "/reduced.bin"; }
+    std::string tile(int64_t tile) const { return dir + "/tile-" + std::to_string(tile) + ".f32"; }
+    std::string report(int64_t task) const { return dir + "/task-" + std::to_string(task) + ".json"; }
+};
+
+// A task's frames are staged in a hidden directory beside the output frames (the same file system,
+// so moving each into place is one atomic rename), named after the plan's work directory and task.
+// The work directory's full path is hashed in, so plans whose work directories share a name do not
+// meet there (only the task that makes a staging directory reads it: the hash need not be stable).
+std::string staging_dir(const JsonValue& plan, int64_t task) {
+    const fs::path output(plan.find("output")->string());
+    const std::string& work = plan.find("work")->string();
+    char hash[17];
+    std::snprintf(hash, sizeof hash, "%016zx", std::hash<std::string>()(work));
+    return (output.parent_path() / ("." + fs::path(work).filename().string() + "-" + hash + ".frames-" +
+                                    std::to_string(task))).string();
+}
+
+struct Run {
+    const JsonValue& plan;
+    const TaskContext& context;
+    Work work;
+    StageContext stage;
+    std::atomic<int64_t> pixels_read{0};
+    int64_t bytes_read = 0, bytes_written = 0;
+    Results results;
+    std::vector<std::string> outputs;
+};
+
+// The plan's low-rank stage, carrying the plan's transform scales.
+LowRankStage tile_stage(const Run& run, bool gram) {
+    const auto stage = run.context.filter->stream_stage();
+    const auto* low_rank = stage ? dynamic_cast<const LowRankStage*>(&stage->core()) : nullptr;
+    if (!low_rank) throw Error(Status::InvalidArgument, "the plan's filter has no low-rank stage (was the plan made with other options?)");
+    LowRankOptions options = low_rank->options();
+    options.scales.clear();
+    for (const JsonValue& v : member(run.plan, "scales", "the plan").array()) options.scales.push_back(v.number());
+    options.gram = gram;
+    return LowRankStage(options);
+}
+
+void annotate(const Run& run, Results& results) {
+    const auto stage = run.context.filter->stream_stage();
+    if (stage) stage->annotate(results);
+}
+
+void statistics_task(Run& run, const JsonValue& task) {
+    const auto [y0, y1] = range(task, "rows", "task");
+    const int64_t tile = integer(task, "tile", "task");
+    CountingSource counted(*run.context.source, run.pixels_read);
+    const auto window = row_window(counted, y0, y1);
+    const LowRankStatistics stats = tile_stage(run, true).statistics(*window, run.stage);
+    TileStatistics partial;
+    partial.frames = window->shape().frames;
+    partial.repaired = stats.repaired;
+    for (const LowRankStatistics::Group& g : stats.groups) partial.groups.push_back({g.series, g.gram, {}});
+    write_tile_statistics(run.work.partial(tile), partial);
+    run.bytes_written += tile_statistics_bytes(partial);
+    run.outputs.push_back(run.work.partial(tile));
+}
+
+// Sums the partials in tile order (each read once, by its tile's name: nothing counted twice) and
+// makes each group's basis once for every reconstruction.
+void reduce_task(Run& run, const JsonValue& task) {
+    const int64_t tiles = integer(task, "tiles", "task");
+    TileStatistics total;
+    for (int64_t t = 0; t < tiles; ++t) {
+        const TileStatistics part = read_tile_statistics(run.work.partial(t));
+        run.bytes_read += tile_statistics_bytes(part);
+        if (t == 0) {
+            total = part;
+            for (GroupStatistics& g : total.groups) std::fill(g.gram.begin(), g.gram.end(), 0.0), g.series = 0;
+            total.repaired = 0;
+        }
+        if (part.frames != total.frames || part.groups.size() != total.groups.size())
+            throw Error(Status::InvalidArgument, "'" + run.work.partial(t) + "' does not match tile 0's frames and channel groups");
+        total.repaired += part.repaired;
+        for (size_t g = 0; g < total.groups.size(); ++g) {
+            total.groups[g].series += part.groups[g].series;
+            for (size_t k = 0; k < total.groups[g].gram.size(); ++k) total.groups[g].gram[k] += part.groups[g].gram[k];
+        }
+    }
+    for (GroupStatistics& g : total.groups) g.basis = basis_from_gram(g.gram, total.frames, g.series);
+    write_tile_statistics(run.work.reduced(), total);
+    run.bytes_written += tile_statistics_bytes(total);
+    run.results.set("nonfinite_repaired", static_cast<double>(total.repaired));
+    run.outputs.push_back(run.work.reduced());
+}
+
+void reconstruct_task(Run& run, const JsonValue& task) {
+    const auto [y0, y1] = range(task, "rows", "task");
+    const auto [r0, r1] = range(task, "read_rows", "task");
+    const int64_t tile = integer(task, "tile", "task");
+    const TileStatistics reduced = read_tile_statistics(run.work.reduced());
+    run.bytes_read += tile_statistics_bytes(reduced);
+    CountingSource counted(*run.context.source, run.pixels_read);
+    const auto window = row_window(counted, r0, r1);
+    const Shape& s = window->shape();
+    // The tile's own statistics pass finds the same fireflies as its statistics task and keeps the
+    // band when it fits; the Gram and basis are the reduction's.
+    const LowRankStage stage = tile_stage(run, false);
+    LowRankStatistics stats = stage.statistics(*window, run.stage);
+    if (stats.groups.size() != reduced.groups.size() || reduced.frames != s.frames)
+        throw Error(Status::InvalidArgument, "'" + run.work.reduced() + "' does not match the shot's frames and channel groups");
+    for (size_t g = 0; g < stats.groups.size(); ++g) {
+        stats.groups[g].gram = reduced.groups[g].gram;
+        stats.groups[g].series = reduced.groups[g].series;
+        stats.groups[g].basis = std::make_shared<TemporalBasis>(reduced.groups[g].basis);
+    }
+    const int64_t row_floats = s.width * s.channels, rows = y1 - y0;
+    const size_t frame_bytes = static_cast<size_t>(rows * row_floats) * sizeof(float);
+    AtomicFile out(run.work.tile(tile));
+    Results own;
+    stage.reconstruct(*window, std::move(stats), [&](int64_t t, float* pixels) {
+        out.write_at(t * static_cast<int64_t>(frame_bytes), pixels + (y0 - r0) * row_floats, frame_bytes);
+    }, run.stage, own);
+    out.commit();
+    run.bytes_written += static_cast<int64_t>(frame_bytes) * s.frames;
+    annotate(run, run.results);
+    for (const std::string& name : own.names())
+        if (name != "rank_map" && name != "nonfinite_repaired" && name != "bands") run.results.copy(own, name, name);
+    run.outputs.push_back(run.work.tile(tile));
+}
+
+// Frames of a sink in the staging directory moved into their final names, one rename each.
+void publish(Run& run, const std::string& staging, const Sequence& attributes) {
+    const FramePattern staged(staging + "/" + fs::path(run.plan.find("output")->string()).filename().string());
+    const FramePattern final_pattern(run.plan.find("output")->string());
+    for (int64_t number : attributes.frame_numbers()) {
+        std::error_code ec;
+        fs::rename(staged.format(number), final_pattern.format(number), ec);
+        if (ec) throw Error(Status::Io, "cannot rename into '" + final_pattern.format(number) + "': " + ec.message());
+        run.outputs.push_back(final_pattern.format(number));
+        run.bytes_written += static_cast<int64_t>(fs::file_size(final_pattern.format(number), ec));
+    }
+    fs::remove_all(staging);
+}
+
+std::unique_ptr<FrameSink> staging_sink(Run& run, const std::string& staging, const Sequence& attributes) {
+    std::error_code ec;
+    fs::remove_all(staging, ec);  // what a killed run of this task left
+    fs::create_directories(staging);
+    const std::string pattern = staging + "/" + fs::path(run.plan.find("output")->string()).filename().string();
+    auto sink = run.context.open_sink(pattern, attributes);
+    for (const auto& [name, value] : run.context.attributes) sink->set_attribute(name, value);
+    return sink;
+}
+
+void assemble_task(Run& run, const JsonValue& task, int64_t index) {
+    const auto [f0, f1] = range(task, "frames", "task");
+    const Shape& s = run.context.source->shape();
+    const auto attributes = frame_range_attributes(run.context.source->attributes(), f0, f1);
+    std::vector<std::pair<int64_t, int64_t>> tiles;  // rows of each tile
+    int64_t first_reconstruct = -1;
+    for (const JsonValue& t : member(run.plan, "tasks", "the plan").array())
+        if (t.find("phase")->string() == "reconstruct") {
+            tiles.push_back(range(t, "rows", "task"));
+            if (first_reconstruct < 0) first_reconstruct = integer(t, "index", "task");
+        }
+    // Every tile there before any frame is staged (a task run before the reconstructions fails here).
+    for (size_t k = 0; k < tiles.size(); ++k)
+        if (!fs::exists(run.work.tile(static_cast<int64_t>(k))))
+            throw Error(Status::Io, "tile " + std::to_string(k) + " ('" + run.work.tile(static_cast<int64_t>(k)) +
+                                        "') is not there: run the reconstruction tasks before the assembly");
+    const std::string staging = staging_dir(run.plan, index);
+    auto sink = staging_sink(run, staging, *attributes);
+    // What the preset chose, as the single-process frames say.
+    Results annotation;
+    annotate(run, annotation);
+    for (const char* name : {"method", "reason"})
+        if (annotation.has(name)) sink->set_attribute(std::string("statfilter:") + name, annotation.get_string(name));
+    const int64_t row_floats = s.width * s.channels;
+    parallel_for(f1 - f0, run.stage.threads, [&](int64_t i) {
+        const int64_t t = f0 + i;
+        std::vector<float> frame(static_cast<size_t>(s.height * row_floats));
+        for (size_t k = 0; k < tiles.size(); ++k) {
+            const auto [y0, y1] = tiles[k];
+            const size_t bytes = static_cast<size_t>((y1 - y0) * row_floats) * sizeof(float);
+            read_file_at(run.work.tile(static_cast<int64_t>(k)), t * static_cast<int64_t>(bytes), frame.data() + y0 * row_floats, bytes);
+        }
+        sink->write_frame(i, frame.data());
+    }, {run.context.progress, 0.0, 0.9, "assemble"});
+    run.bytes_read += (f1 - f0) * s.height * row_floats * static_cast<int64_t>(sizeof(float));
+    sink->commit();
+    sink.reset();
+    publish(run, staging, *attributes);
+    (void)first_reconstruct;
+}
+
+RunOptions run_options(const Run& run) {
+    RunOptions o;
+    o.budget_bytes = run.stage.budget_bytes;
+    o.threads = run.stage.threads;
+    o.progress = run.context.progress;
+    return o;
+}
+
+void frames_task(Run& run, const JsonValue& task, int64_t index) {
+    const auto [f0, f1] = range(task, "frames", "task");
+    CountingSource counted(*run.context.source, run.pixels_read);
+    const auto frames = frame_range(counted, f0, f1);
+    const std::string staging = staging_dir(run.plan, index);
+    auto sink = staging_sink(run, staging, frames->attributes());
+    run.context.filter->execute(*frames, *sink, run_options(run));
+    sink.reset();
+    run.results = run.context.filter->results();
+    publish(run, staging, frames->attributes());
+}
+
+void shot_task(Run& run) {
+    CountingSource counted(*run.context.source, run.pixels_read);
+    auto sink = run.context.open_sink(run.plan.find("output")->string(), counted.attributes());
+    for (const auto& [name, value] : run.context.attributes) sink->set_attribute(name, value);
+    run.context.filter->execute(counted, *sink, run_options(run));
+    run.results = run.context.filter->results();
+    run.outputs.push_back(run.plan.find("output")->string());
+}
+
+}  // namespace
+
+std::string run_plan_task(const JsonValue& plan, int64_t index, const TaskContext& context) {
+    const int64_t count = plan_task_count(plan);
+    if (index < 0 || index >= count)
+        throw Error(Status::InvalidArgument, "task " + std::to_string(index) + " is not in the plan (tasks 0 to " +
+                                                 std::to_string(count - 1) + ")");
+    const JsonValue& task = plan.find("tasks")->array()[static_cast<size_t>(index)];
+    const std::string phase = member(task, "phase", "task " + std::to_string(index)).string();
+    const auto start = std::chrono::steady_clock::now();
+    const double cpu0 = cpu_seconds();
+    Run run{plan, context, Work{member(plan, "work", "the plan").string()}, {}, {}, 0, 0, {}, {}};
+    fs::create_directories(run.work.dir);
+    const int threads = resolve_threads(context.threads > 0 ? context.threads : static_cast<int>(integer(plan, "threads", "the plan")));
+    const ThreadLimit limit(threads);
+    const double plan_budget = member(plan, "memory", "the plan").number();
+    run.stage.threads = threads;
+    run.stage.budget_bytes = context.budget_bytes > 0 ? context.budget_bytes
+                             : plan_budget > 0       ? plan_budget
+                                                     : static_cast<double>(default_memory_budget());
+    run.stage.progress = &context.progress;
+    if (phase == "statistics") statistics_task(run, task);
+    else if (phase == "reduce") reduce_task(run, task);
+    else if (phase == "reconstruct") reconstruct_task(run, task);
+    else if (phase == "assemble") assemble_task(run, task, index);
+    else if (phase == "frames") frames_task(run, task, index);
+    else if (phase == "shot") shot_task(run);
+    else throw Error(Status::InvalidArgument, "task " + std::to_string(index) + " has an unknown phase '" + phase + "'");
+    context.progress.report(1.0, "done");
+
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    std::ostringstream report;
+    report << "{\"task\": " << index << ", \"phase\": " << json_quote(phase) << ", \"seconds\": " << json_number(seconds)
+           << ", \"cpu_seconds\": " << json_number(cpu_seconds() - cpu0) << ", \"threads\": " << threads
+           << ", \"pixel_bytes_read\": " << run.pixels_read.load() << ", \"bytes_read\": " << run.bytes_read
+           << ", \"bytes_written\": " << run.bytes_written << ", \"results\": " << results_json(run.results)
+           << ", \"outputs\": [";
+    for (size_t i = 0; i < run.outputs.size(); ++i) report << (i ? ", " : "") << json_quote(run.outputs[i]);
+    report << "]}\n";
+    const std::string text = report.str();
+    AtomicFile file(run.work.report(index));
+    file.write_at(0, text.data(), text.size());
+    file.commit();
+    return text;
+}
+
+}  // namespace statfilter

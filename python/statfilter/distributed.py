@@ -1,0 +1,202 @@
+"""Denoising a shot across machines: the plan of tasks (sf_plan_write) run on a Dask cluster.
+
+``denoise(input, output, client=None, **params)`` writes the plan beside the output, submits one Dask
+task per plan task with the plan's dependencies, and each worker runs its task through the C ABI
+(sf_plan_run_task) on the files it sees: input, output and the plan's work directory must be on
+storage every worker shares. The output is the same as ``Filter(method, **params).run_files(input,
+output)`` (docs/distributed.md says where it is bit-identical and the bound where not).
+
+Dask is an optional extra (``pip install statfilter[dask]``); importing this module works without it,
+calling denoise does not.
+"""
+
+from __future__ import annotations
+
+import ctypes
+import json
+import os
+import shutil
+import sys
+import tempfile
+import time
+from typing import Any, Dict, List, Optional, Union
+
+from . import _capi
+from .errors import error_for
+from .filter import Filter
+from .sequence import _read_options, _write_options
+
+__all__ = ["denoise", "write_plan", "run_task"]
+
+
+def _memory_bytes(memory: Union[int, str, None]) -> int:
+    if memory is None:
+        return 0
+    if isinstance(memory, str):
+        size = ctypes.c_int64()
+        status = _capi.lib.sf_memory_size_parse(_capi.encode(memory), ctypes.byref(size))
+        if status != _capi.SF_OK:
+            raise error_for(status, _capi.text(_capi.lib.sf_last_error()))
+        return size.value
+    return int(memory)
+
+
+def _method(method: Optional[str], params: Dict[str, Any]) -> str:
+    """The CLI's choice: --quality means auto; the default is auto (hybrid with a prefilter)."""
+    if "quality" in params:
+        if method not in (None, "auto"):
+            raise ValueError("quality picks the method itself (it is a parameter of method auto); give one or the other")
+        return "auto"
+    if method:
+        return method
+    return "hybrid" if params.get("prefilter") else "auto"
+
+
+def write_plan(input: str, output: str, plan_path: str, method: Optional[str] = None, tiles: int = 0,
+               tile_rows: int = 0, frames_per_task: int = 0, work_dir: Optional[str] = None,
+               memory: Union[int, str, None] = None, threads: int = 0, channels: Any = None, frames: Any = None,
+               pixel_type: str = "half", compression: str = "zip", **params: Any) -> Dict[str, Any]:
+    """Write the plan of tasks (as ``statfilter plan`` does) and return it (the parsed JSON)."""
+    flt = Filter(_method(method, params), **params)
+    run = _capi.sf_run_options()
+    _capi.lib.sf_run_options_init(ctypes.byref(run))
+    run.memory = _memory_bytes(memory)
+    run.threads = int(threads)
+    plan = _capi.sf_plan_options()
+    _capi.lib.sf_plan_options_init(ctypes.byref(plan))
+    plan.tiles, plan.tile_rows, plan.frames_per_task = int(tiles), int(tile_rows), int(frames_per_task)
+    work = _capi.encode_path(work_dir) if work_dir else None
+    plan.work_dir = work
+    read, keep_read = _read_options(channels, frames)
+    write, keep_write = _write_options(pixel_type, compression)
+    status = _capi.lib.sf_plan_write(flt._live(), _capi.encode_path(input), ctypes.byref(read),
+                                     _capi.encode_path(output), ctypes.byref(write), ctypes.byref(run),
+                                     ctypes.byref(plan), _capi.encode_path(plan_path))
+    del keep_read, keep_write, work
+    if status != _capi.SF_OK:
+        message = _capi.text(_capi.lib.sf_filter_last_error(flt._live())) or _capi.text(_capi.lib.sf_last_error())
+        raise error_for(status, message)
+    with open(plan_path) as f:
+        return json.load(f)
+
+
+def run_task(plan_path: str, index: int, memory: Union[int, str, None] = None, threads: int = 0,
+             *after: Any) -> Dict[str, Any]:
+    """Run task `index` of a plan here (what a Dask worker calls); returns the task's report.
+    `after` are the reports of the tasks it waits for (Dask passes them; unused)."""
+    run = _capi.sf_run_options()
+    _capi.lib.sf_run_options_init(ctypes.byref(run))
+    run.memory = _memory_bytes(memory)
+    run.threads = int(threads)
+    started = time.time()
+    status = _capi.lib.sf_plan_run_task(_capi.encode_path(plan_path), int(index), ctypes.byref(run))
+    if status != _capi.SF_OK:
+        raise error_for(status, "task %d of %s: %s" % (index, plan_path, _capi.text(_capi.lib.sf_last_error())))
+    with open(plan_path) as f:
+        work = json.load(f)["work"]
+    with open(os.path.join(work, "task-%d.json" % index)) as f:
+        report = json.load(f)
+    report["started"], report["finished"] = started, time.time()
+    report["host"] = "%s:%d" % (os.uname().nodename, os.getpid())
+    return report
+
+
+def _progress_line(done: int, total: int, phase: str) -> None:
+    sys.stderr.write("\rstatfilter: %d/%d tasks (%s)%s" % (done, total, phase, "\n" if done == total else ""))
+    sys.stderr.flush()
+
+
+def denoise(input: str, output: str, client: Any = None, method: Optional[str] = None, tiles: int = 0,
+            tile_rows: int = 0, frames_per_task: int = 0, work_dir: Optional[str] = None,
+            memory: Union[int, str, None] = None, threads: int = 1, channels: Any = None, frames: Any = None,
+            pixel_type: str = "half", compression: str = "zip", retries: int = 3, progress: bool = True,
+            keep_work: bool = False, **params: Any) -> Dict[str, Any]:
+    """Denoise the EXR sequence `input` into `output` on a Dask cluster.
+
+    client:    a dask.distributed Client; None = a LocalCluster of two single-threaded worker
+               processes for the call.
+    method, **params: as ``statfilter denoise`` (``quality="fast"`` is method auto).
+    tiles, tile_rows, frames_per_task: how the plan cuts the shot (sf_plan_options).
+    work_dir:  where the plan and its work files go, on storage every worker sees (default: a hidden
+               directory beside the output, removed afterwards unless keep_work).
+    memory, threads: each task's budget and threads (threads=1: one task per worker thread).
+    retries:   times Dask reruns a task whose worker died (tasks are idempotent).
+    Returns the report: the plan's kind and reason, tasks, bytes read and written, seconds per phase,
+    the method's results. The output frames appear as the assembly tasks finish, each at once.
+    """
+    try:
+        from distributed import Client, LocalCluster, as_completed
+    except ImportError as exc:  # the optional extra
+        raise ImportError("statfilter.distributed needs Dask: pip install statfilter[dask]") from exc
+    out_dir = os.path.dirname(os.path.abspath(output))
+    os.makedirs(out_dir, exist_ok=True)
+    plan_dir = tempfile.mkdtemp(prefix=".statfilter-plan-", dir=work_dir or out_dir)
+    plan_path = os.path.join(plan_dir, "plan.json")
+    started = time.time()
+    plan = write_plan(input, output, plan_path, method=method, tiles=tiles, tile_rows=tile_rows,
+                      frames_per_task=frames_per_task, work_dir=os.path.join(plan_dir, "work"), memory=memory,
+                      threads=threads, channels=channels, frames=frames, pixel_type=pixel_type,
+                      compression=compression, **params)
+    planned = time.time()
+    own_cluster = None
+    if client is None:
+        own_cluster = LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=":0")
+        client = Client(own_cluster)
+    try:
+        tag = os.path.basename(plan_dir)
+        futures: List[Any] = []
+        for task in plan["tasks"]:
+            after = [futures[i] for i in task["after"]]
+            futures.append(client.submit(run_task, plan_path, task["index"], memory, threads, *after,
+                                         key="statfilter-%s-%d-%s" % (task["phase"], task["index"], tag),
+                                         pure=False, retries=retries))
+        reports: List[Optional[Dict[str, Any]]] = [None] * len(futures)
+        index_of = {f.key: i for i, f in enumerate(futures)}
+        done = 0
+        for future in as_completed(futures):
+            i = index_of[future.key]
+            reports[i] = future.result()  # raises the task's error
+            done += 1
+            if progress:
+                _progress_line(done, len(futures), plan["tasks"][i]["phase"])
+        finished = time.time()
+        workers = len(client.scheduler_info().get("workers", {}))
+    finally:
+        if own_cluster is not None:
+            client.close()
+            own_cluster.close()
+    report = _report(plan, [r for r in reports if r is not None], planned - started, finished - planned, workers)
+    if not keep_work:
+        shutil.rmtree(plan_dir, ignore_errors=True)
+    else:
+        report["plan"] = plan_path
+    return report
+
+
+def _report(plan: Dict[str, Any], reports: List[Dict[str, Any]], plan_seconds: float, run_seconds: float,
+            workers: int) -> Dict[str, Any]:
+    phases: Dict[str, Dict[str, Any]] = {}
+    for r in reports:
+        p = phases.setdefault(r["phase"], {"tasks": 0, "seconds": 0.0, "cpu_seconds": 0.0, "pixel_bytes_read": 0,
+                                           "bytes_read": 0, "bytes_written": 0, "started": r["started"],
+                                           "finished": r["finished"]})
+        p["tasks"] += 1
+        for k in ("seconds", "cpu_seconds", "pixel_bytes_read", "bytes_read", "bytes_written"):
+            p[k] += r[k]
+        p["started"], p["finished"] = min(p["started"], r["started"]), max(p["finished"], r["finished"])
+    for p in phases.values():
+        p["wall_seconds"] = p.pop("finished") - p.pop("started")
+    results: Dict[str, Any] = {}
+    for r in reports:
+        if r["phase"] in ("reduce", "reconstruct", "frames", "shot"):
+            for k, v in r["results"].items():
+                results.setdefault(k, v)
+    return {
+        "kind": plan["kind"], "reason": plan["reason"], "tasks": len(reports), "workers": workers,
+        "shape": plan["shape"], "plan_seconds": plan_seconds, "run_seconds": run_seconds,
+        "pixel_bytes_read": sum(r["pixel_bytes_read"] for r in reports),
+        "bytes_read": sum(r["bytes_read"] for r in reports),
+        "bytes_written": sum(r["bytes_written"] for r in reports),
+        "cpu_seconds": sum(r["cpu_seconds"] for r in reports),
+        "phases": phases, "results": results, "hosts": sorted({r["host"] for r in reports}),
+    }

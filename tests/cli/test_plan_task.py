@@ -1,0 +1,127 @@
+"""statfilter plan + statfilter task, one after another from a shell as a render farm runs them: the
+same output as statfilter denoise with the same options (docs/distributed.md)."""
+import json
+import signal
+import subprocess
+import time
+
+import pytest
+
+from conftest import CLI, run
+
+# (options, how the plan cuts the shot, kind, bit-identical). The firefly test judges each band of
+# rows against that band's own spread, so with fireflies on (the default) tiles differ from one band
+# in a few decisions; the bound is the streaming tests' (relMSE 1e-4 between the two).
+CASES = [
+    (["--method", "pca", "--firefly-z", "0"], ["--tiles", "3"], "tiles", True),
+    (["--method", "pca"], ["--tiles", "1"], "tiles", True),
+    (["--method", "pca"], ["--tiles", "3"], "tiles", False),
+    (["--method", "error-threshold", "--firefly-z", "0"], ["--tile-rows", "16"], "tiles", True),
+    (["--quality", "fast"], ["--tiles", "4"], "tiles", False),
+    (["--method", "copy"], ["--frames-per-task", "5"], "frames", True),
+    (["--method", "diffusion"], [], "frames", True),
+    (["--quality", "balanced"], [], "shot", True),
+]
+
+
+def shell_run(plan):
+    """Every task in plan order (which respects each task's 'after' list), from one shell script."""
+    count = len(json.loads(plan.read_text())["tasks"])
+    script = 'for i in $(seq 0 $(($2 - 1))); do "$3" task "$1" "$i" --quiet || exit 1; done'
+    subprocess.run(["bash", "-c", script, "farm", str(plan), str(count), CLI], check=True, timeout=600)
+
+
+@pytest.mark.parametrize("options,cut,kind,identical", CASES, ids=[" ".join(c[0] + c[1]) for c in CASES])
+def test_plan_and_tasks_give_the_denoise_output(sample_noisy, tmp_path, options, cut, kind, identical):
+    single = tmp_path / "single" / "o.####.exr"
+    run("denoise", sample_noisy, single, *options, "--quiet")
+    out = tmp_path / "farm" / "o.####.exr"
+    plan = tmp_path / "plan.json"
+    proc = run("plan", sample_noisy, out, *options, *cut, "-o", plan, "--quiet")
+    tasks = json.loads(plan.read_text())
+    assert tasks["kind"] == kind and int(proc.stdout) == len(tasks["tasks"])
+    for task in tasks["tasks"]:
+        assert all(a < task["index"] for a in task["after"])
+    assert not (tmp_path / "farm" / "o.0001.exr").exists()  # the plan writes no frame
+    shell_run(plan)
+    assert len(list((tmp_path / "farm").glob("o.*.exr"))) == 32
+    assert not [p for p in (tmp_path / "farm").iterdir() if p.name.startswith(".")]  # no staging left
+    rel_mse = json.loads(run("compare", out, single, "--json").stdout)["rel_mse"]
+    if identical:
+        assert rel_mse == 0
+    else:
+        assert 0 <= rel_mse < 1e-4
+
+
+def test_rerunning_finished_tasks_changes_nothing(sample_noisy, tmp_path):
+    out = tmp_path / "farm" / "o.####.exr"
+    plan = tmp_path / "plan.json"
+    run("plan", sample_noisy, out, "--method", "pca", "--tiles", "3", "-o", plan, "--quiet")
+    shell_run(plan)
+    first = {p.name: p.read_bytes() for p in (tmp_path / "farm").glob("o.*.exr")}
+    # A farm that reruns a statistics task after the reduction, then everything after it: the
+    # reduction reads each tile's partial once, by its tile, so nothing is counted twice.
+    for i in (0, 3, 4, 7):
+        run("task", plan, i, "--quiet")
+    shell_run(plan)
+    assert {p.name: p.read_bytes() for p in (tmp_path / "farm").glob("o.*.exr")} == first
+
+
+def test_a_killed_task_leaves_no_frame_and_its_rerun_completes(sample_noisy, tmp_path):
+    out = tmp_path / "farm" / "o.####.exr"
+    plan = tmp_path / "plan.json"
+    run("plan", sample_noisy, out, "--method", "pca", "--tiles", "3", "--frames-per-task", "32", "-o", plan, "--quiet")
+    tasks = json.loads(plan.read_text())["tasks"]
+    for task in tasks[:-1]:
+        run("task", plan, task["index"], "--quiet")
+    # The one assembly task, killed as soon as it has started: no output frame half-written.
+    proc = subprocess.Popen([CLI, "task", str(plan), str(tasks[-1]["index"]), "--quiet"])
+    time.sleep(0.05)
+    proc.send_signal(signal.SIGKILL)
+    proc.wait()
+    for p in (tmp_path / "farm").glob("o.*.exr"):
+        assert p.stat().st_size > 0
+        run("info", p)  # whole frames only
+    run("task", plan, tasks[-1]["index"], "--quiet")
+    single = tmp_path / "single" / "o.####.exr"
+    run("plan", sample_noisy, single, "--method", "pca", "--tiles", "3", "-o", tmp_path / "again.json", "--quiet")
+    shell_run(tmp_path / "again.json")
+    assert json.loads(run("compare", out, single, "--json").stdout)["rel_mse"] == 0
+
+
+def test_plan_checks_before_any_work(sample_noisy, tmp_path):
+    proc = run("plan", sample_noisy, tmp_path / "o.exr", "--method", "pca", "-o", tmp_path / "p.json", check_rc=1)
+    assert "frame token" in proc.stderr and not (tmp_path / "p.json").exists()
+    proc = run("plan", sample_noisy, sample_noisy, "--method", "pca", "--overwrite", "-o", tmp_path / "p.json", check_rc=2)
+    assert "overwrite" in proc.stderr
+    proc = run("plan", sample_noisy, tmp_path / "o.####.exr", "--method", "pca", check_rc=2)
+    assert "-o PLAN" in proc.stderr
+    proc = run("plan", sample_noisy, tmp_path / "o.####.exr", "--tiles", "2", "--tile-rows", "3", "-o", tmp_path / "p.json",
+               check_rc=2)
+    assert "not both" in proc.stderr
+    run("plan", sample_noisy, tmp_path / "o.####.exr", "--method", "pca", "-o", tmp_path / "p.json", "--quiet")
+    proc = run("task", tmp_path / "p.json", 99, check_rc=1)
+    assert "task 99 is not in the plan" in proc.stderr
+    tasks = json.loads((tmp_path / "p.json").read_text())["tasks"]
+    phase = {t["phase"]: t["index"] for t in reversed(tasks)}  # each phase's first task
+    proc = run("task", tmp_path / "p.json", phase["reconstruct"], check_rc=1)  # before its reduction
+    assert "reduced.bin" in proc.stderr
+    proc = run("task", tmp_path / "p.json", phase["assemble"], check_rc=1)
+    assert "run the reconstruction tasks before the assembly" in proc.stderr
+    assert not list(tmp_path.glob("o.*.exr")) and not [p for p in tmp_path.iterdir() if p.name.startswith(".")]
+
+
+def test_farm_submission_scripts_lay_the_phases_out(sample_noisy, tmp_path):
+    import sys
+    from pathlib import Path
+    farm = Path(__file__).resolve().parents[2] / "scripts" / "farm"
+    plan = tmp_path / "plan.json"
+    run("plan", sample_noisy, tmp_path / "o.####.exr", "--method", "pca", "--tiles", "3", "-o", plan, "--quiet")
+    cue = subprocess.run([sys.executable, farm / "opencue_submit.py", plan, "--dry-run"], capture_output=True, text=True,
+                         check=True).stdout.splitlines()
+    assert [line.split()[1:4] for line in cue] == [["statistics", "frames", "0-2"], ["reduce", "frames", "3-3"],
+                                                  ["reconstruct", "frames", "4-6"], ["assemble", "frames", "7-10"]]
+    deadline = subprocess.run([sys.executable, farm / "deadline_submit.py", plan, "--dry-run"], capture_output=True,
+                              text=True, check=True).stdout
+    assert deadline.count("Plugin=CommandLine") == 4 and deadline.count("JobDependencies=") == 3
+    assert "<STARTFRAME>" in deadline
