@@ -269,17 +269,22 @@ void HybridStage::run(const FrameSource& source, const FrameConsumer& consume, c
     }
     const auto gain = [&](int64_t f) { return mc.frame_gain.empty() ? 1.0 : mc.frame_gain[static_cast<size_t>(f)]; };
 
-    // The flow images' scale: the guide's 99.5th percentile, in two reads of the first pass.
+    // The flow images' scale: the guide's 99.5th percentile, in two reads of the guides. Each frame's
+    // guide is made once, from its first pass, and parked for the second read and the window.
     GuideScale quantile(frame_samples);
+    ScratchFrames guide_frames(s, source.attributes());
     for (const bool counting : {true, false}) {
         const int64_t batch = std::max(1, ctx.threads);
         std::vector<std::vector<float>> guides(static_cast<size_t>(batch), std::vector<float>(static_cast<size_t>(frame_samples)));
         for (int64_t f0 = 0; f0 < F; f0 += batch) {
             const int64_t n = std::min(batch, F - f0);
             parallel_for(n, ctx.threads, [&](int64_t i) {
+                float* guide = guides[static_cast<size_t>(i)].data();
+                if (!counting) return guide_frames.read_rows(f0 + i, 0, H, guide);
                 std::vector<float> estimate(static_cast<size_t>(frame_samples));
                 first_pass.read_rows(f0 + i, 0, H, estimate.data());
-                aligned_guide(estimate.data(), frame_samples, gain(f0 + i), mean, guides[static_cast<size_t>(i)].data());
+                aligned_guide(estimate.data(), frame_samples, gain(f0 + i), mean, guide);
+                guide_frames.write_frame(f0 + i, guide);
             }, {progress, 0.5 + (counting ? 0.0 : 0.025) + 0.025 * f0 / F, 0, "motion compensation"});
             for (int64_t i = 0; i < n; ++i) {
                 if (counting) quantile.count(f0 + i, guides[static_cast<size_t>(i)].data());
@@ -320,8 +325,7 @@ void HybridStage::run(const FrameSource& source, const FrameConsumer& consume, c
             w.image.resize(static_cast<size_t>(P));
             source.read_rows(f, 0, H, frame.data());
             aligned_values(frame.data(), frame_samples, gain(f), mc.transform, w.values.data());
-            first_pass.read_rows(f, 0, H, frame.data());
-            aligned_guide(frame.data(), frame_samples, gain(f), mean, w.guide.data());
+            guide_frames.read_rows(f, 0, H, w.guide.data());
             flow_image(w.guide.data(), W, H, C, scale, w.image.data());
         }, {progress, at, 0, "motion compensation"});
         parallel_for(t1 - t0, ctx.threads, [&](int64_t i) {
