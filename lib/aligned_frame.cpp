@@ -169,6 +169,14 @@ AlignedAverager::AlignedAverager(const Shape& shape, std::vector<int64_t> pixels
                                  const std::vector<float>* vectors)
     : shape_(shape), pixels_(std::move(pixels)), options_(options), vectors_(vectors && !vectors->empty() ? vectors : nullptr) {}
 
+double AlignedAverager::working_bytes(const Shape& s, int64_t pixels) {
+    const double n = static_cast<double>(pixels), P = static_cast<double>(s.pixels());
+    // sum (C doubles), weight, where (2 floats), tracked, by_vector; the flow (2 floats a pixel),
+    // DIS's upsampled fields (2 floats) and ~16 bytes a pixel of its pyramid and refinement.
+    return n * (static_cast<double>(s.channels) * sizeof(double) + sizeof(double) + 2 * sizeof(float) + 2) +
+           P * (2 * sizeof(float) + 2 * sizeof(float) + 16);
+}
+
 double AlignedAverager::average(int64_t t, const AlignedWindow& window, float* out) const {
     const Shape& s = shape_;
     const int64_t F = s.frames, P = s.pixels(), C = s.channels;

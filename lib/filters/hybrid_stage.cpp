@@ -15,6 +15,7 @@
 #include "pipeline/parallel.hpp"
 #include "pipeline/scratch_frames.hpp"
 #include "statfilter/aligned_frame.hpp"
+#include "statfilter/anisotropic_diffusion.hpp"
 #include "statfilter/filter_registry.hpp"
 
 namespace statfilter {
@@ -96,22 +97,36 @@ double HybridStage::analysis_bytes(const Shape& s) const {
            2.0 * TemporalChange::kHalo * s.frames * s.width * s.channels * (sizeof(float) + sizeof(double));
 }
 
+double HybridStage::maps_bytes(const Shape& s) {
+    // After the analysis: alpha (a result), the moving weight and its grown copy (float), the moving
+    // mask and the moving pixels' indices (at most every pixel).
+    return static_cast<double>(s.pixels()) * (3 * sizeof(float) + 1 + sizeof(int64_t));
+}
+
+double HybridStage::first_pass_bytes(const Shape& s, int threads) const {
+    // Per thread while I_T is rebuilt: the first pass' copy of the frame and the diffusion's working set.
+    const double frame = static_cast<double>(s.pixels()) * s.channels * sizeof(float);
+    return threads * (frame + diffusion_working_bytes(s.pixels(), s.channels));
+}
+
 double HybridStage::window_bytes(const Shape& s, int threads) const {
     const double frame = static_cast<double>(s.pixels()) * s.channels * sizeof(float);
     const double frames = 2.0 * options_.mc.half_width + threads;  // the window of every frame being averaged
-    // Each window frame: samples, guide, image; each thread: I_T, the first pass, the average's sums
-    // and the flow (two floats a pixel) with DIS's pyramids.
-    return frames * (2 * frame + static_cast<double>(s.pixels())) + threads * (4 * frame + 16.0 * s.pixels());
+    // Each window frame: samples, guide, image. Each thread: I_T and the first pass, then either the
+    // average's own buffers with the flow and DIS's images, or the light diffusion pass of the frame
+    // it hands on (a frame entering the window is read through one more frame, a smaller need).
+    const double refine = options_.refine_after ? diffusion_working_bytes(s.pixels(), s.channels) : 0.0;
+    const double per_thread = 2 * frame + std::max({AlignedAverager::working_bytes(s, s.pixels()), refine, frame});
+    return frames * (2 * frame + static_cast<double>(s.pixels())) + threads * per_thread + maps_bytes(s);
 }
 
 double HybridStage::min_bytes(const Shape& s, int threads) const {
     const LowRankStage temporal(options_.temporal);
-    const double frame = static_cast<double>(s.pixels()) * s.channels * sizeof(float);
     const int64_t rank = options_.temporal.per_pixel ? options_.temporal.max_rank : options_.temporal.known_rank;
-    // The passes: the temporal model, a band and the motion maps; the rebuild: the model, the moving
-    // mask and the first pass' diffusion (a few working copies of its frame per thread); the window.
+    // The passes: the temporal model, a band and the motion maps; the rebuild: the model, the maps and
+    // the first pass made of each frame; the window.
     const double passes = temporal.pass_bytes(s, rank) + temporal.band_row_bytes(s) + analysis_bytes(s);
-    const double rebuild = temporal.emission_bytes(s, rank, threads) + threads * 6 * frame + 5.0 * s.pixels();
+    const double rebuild = temporal.emission_bytes(s, rank, threads) + first_pass_bytes(s, threads) + maps_bytes(s);
     return std::max({passes, rebuild, window_bytes(s, threads)});
 }
 
@@ -128,7 +143,8 @@ void HybridStage::run(const FrameSource& source, const FrameConsumer& consume, c
     // 1. Statistics. The Gram, and each frame's light level for the change test, in one read.
     TemporalChangeOptions change_options;
     change_options.z_threshold = options_.change_z;
-    TemporalChange change(s, change_options);
+    auto change_test = std::make_unique<TemporalChange>(s, change_options);
+    TemporalChange& change = *change_test;
     const bool test_change = options_.change_z > 0;
     const Progress gram_progress = part_of(progress, 0.0, 0.1);
     inner.progress = &gram_progress;
@@ -143,7 +159,8 @@ void HybridStage::run(const FrameSource& source, const FrameConsumer& consume, c
     // Components below the noise threshold are noise, and PCA aligns them with the noisiest pixels
     // (a few outlier samples): their energy piles up there and looks like motion.
     if (options_.signal_components) alpha_options.components = static_cast<int>(std::min<int64_t>(alpha_options.components, signal.rank));
-    GlobalMotionMap alpha_map(basis, signal.noise_sigma, alpha_options, H, W, group.group.count);
+    auto alpha_analysis = std::make_unique<GlobalMotionMap>(basis, signal.noise_sigma, alpha_options, H, W, group.group.count);
+    GlobalMotionMap& alpha_map = *alpha_analysis;
 
     // Then two reads of bands with the change test's halo: the light fit and the pixels' noise, then
     // the energies and the scores. A kept band (the shot fits) is not read again.
@@ -184,6 +201,8 @@ void HybridStage::run(const FrameSource& source, const FrameConsumer& consume, c
     auto weight = std::make_shared<Sequence>(alpha->shape());
     for (int64_t p = 0; p < P; ++p) weight->at(0, p / W, p % W, 0) = 1.0f - alpha->at(0, p / W, p % W, 0);
     if (test_change) combine_max(*weight, *change.map());
+    alpha_analysis.reset();  // their per-pixel sums are not needed past here (maps_bytes)
+    change_test.reset();
     const double moving_share = mean_of_map(*weight);
     results.set("motion_fraction", moving_share);
     results.set_image("alpha", alpha);
@@ -228,7 +247,7 @@ void HybridStage::run(const FrameSource& source, const FrameConsumer& consume, c
     std::vector<double> sums(static_cast<size_t>(F)), still_levels(static_cast<size_t>(F));
     const Progress rebuild = part_of(progress, 0.3, 0.2);
     inner.progress = &rebuild;
-    inner.budget_bytes = ctx.budget_bytes - static_cast<double>(P) * (sizeof(float) + 1);
+    inner.budget_bytes = ctx.budget_bytes - maps_bytes(s) - first_pass_bytes(s, ctx.threads);
     temporal.reconstruct(source, std::move(stats), [&](int64_t t, float* pixels) {
         temporal_frames.write_frame(t, pixels);
         std::vector<float> estimate(pixels, pixels + frame_samples);

@@ -270,7 +270,7 @@ double ulps(double a, double b) {
 
 }  // namespace
 
-// The transforms' own log1p and expm1 (statfilter/fast_log_exp.hpp) stay within the 4 ulp their
+// The transforms' own log1p, expm1 and exp(-x) (statfilter/fast_log_exp.hpp) stay within the 4 ulp their
 // header promises of the library's, over the whole range, signs, zeros, infinities and NaN included.
 TEST(ValueTransform, FastLogAndExpStayWithinFourUlpOfTheLibrary) {
     std::mt19937_64 rng(7);
@@ -297,6 +297,19 @@ TEST(ValueTransform, FastLogAndExpStayWithinFourUlpOfTheLibrary) {
             else if (std::isinf(want_exp)) EXPECT_EQ(back[i], want_exp) << x[i];
             else worst_exp = std::max(worst_exp, ulps(back[i], want_exp));
         }
+        std::vector<double> decay;
+        for (double v : x) decay.push_back(std::fabs(v) * scale);
+        decay.push_back(-1.0);
+        const std::vector<double> decay_in = decay;
+        fast_math::exp_of_negative(decay.data(), decay.size());
+        double worst_decay = 0;
+        for (size_t i = 0; i < decay.size(); ++i) {
+            const double want = std::exp(-decay_in[i]);
+            if (std::isnan(want)) EXPECT_TRUE(std::isnan(decay[i]));
+            else if (want == 0 || std::isinf(want)) EXPECT_EQ(decay[i], want) << decay_in[i];
+            else worst_decay = std::max(worst_decay, ulps(decay[i], want));
+        }
+        EXPECT_LE(worst_decay, 4) << "scale " << scale;
         EXPECT_LE(worst_log, 4) << "scale " << scale;
         EXPECT_LE(worst_exp, 4) << "scale " << scale;
     }
