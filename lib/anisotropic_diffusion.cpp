@@ -39,7 +39,7 @@ double gradient_noise(const std::vector<double>& u, int64_t width, int64_t heigh
 
 double diffusion_working_bytes(int64_t pixels, int64_t channels) {
     const double P = static_cast<double>(pixels);
-    return sizeof(double) * (3.0 * P * static_cast<double>(channels) + 3.0 * P);
+    return sizeof(double) * (3.0 * P * static_cast<double>(channels) + 2.0 * P);
 }
 
 void diffuse_frame(float* pixels, int64_t width, int64_t height, int64_t channels, const DiffusionOptions& o) {

@@ -112,28 +112,40 @@ double HybridStage::first_pass_bytes(const Shape& s, int threads) const {
 double HybridStage::window_bytes(const Shape& s, int threads) const {
     const double frame = static_cast<double>(s.pixels()) * s.channels * sizeof(float);
     const double frames = 2.0 * options_.mc.half_width + threads;  // the window of every frame being averaged
-    // Each window frame: samples, guide, image. Each thread: I_T and the first pass, then either the
-    // average's own buffers with the flow and DIS's images, or the light diffusion pass of the frame
-    // it hands on (a frame entering the window is read through one more frame, a smaller need).
+    // Each window frame: samples, guide, image. Each thread: I_T, then either the first pass with the
+    // average's own buffers, the flow and DIS's images, or the light diffusion pass of the frame it
+    // hands on (a frame entering the window is read through one more frame, a smaller need).
     const double refine = options_.refine_after ? diffusion_working_bytes(s.pixels(), s.channels) : 0.0;
-    const double per_thread = 2 * frame + std::max({AlignedAverager::working_bytes(s, s.pixels()), refine, frame});
+    const double per_thread = frame + std::max({frame + AlignedAverager::working_bytes(s, s.pixels()), refine, frame});
     return frames * (2 * frame + static_cast<double>(s.pixels())) + threads * per_thread + maps_bytes(s);
 }
 
+double HybridStage::rebuild_bytes(const Shape& s, int threads) const {
+    const LowRankStage temporal(options_.temporal);
+    const int64_t rank = options_.temporal.per_pixel ? options_.temporal.max_rank : options_.temporal.known_rank;
+    return temporal.emission_bytes(s, rank, threads) + first_pass_bytes(s, threads) + maps_bytes(s);
+}
+
 double HybridStage::min_bytes(const Shape& s, int threads) const {
+    (void)threads;  // the rebuild and the window run on fewer threads when the budget is tight
     const LowRankStage temporal(options_.temporal);
     const int64_t rank = options_.temporal.per_pixel ? options_.temporal.max_rank : options_.temporal.known_rank;
     // The passes: the temporal model, a band and the motion maps; the rebuild: the model, the maps and
-    // the first pass made of each frame; the window.
+    // the first pass made of each frame; the window. The last two on one thread at least.
     const double passes = temporal.pass_bytes(s, rank) + temporal.band_row_bytes(s) + analysis_bytes(s);
-    const double rebuild = temporal.emission_bytes(s, rank, threads) + first_pass_bytes(s, threads) + maps_bytes(s);
-    return std::max({passes, rebuild, window_bytes(s, threads)});
+    return std::max({passes, rebuild_bytes(s, 1), window_bytes(s, 1)});
 }
 
 void HybridStage::run(const FrameSource& source, const FrameConsumer& consume, const StageContext& ctx, Results& results) {
     const Shape& s = source.shape();
     const int64_t F = s.frames, P = s.pixels(), C = s.channels, H = s.height, W = s.width;
     const int64_t frame_samples = P * C;
+    // The rebuild and the window hold a few frames per thread: as many threads as the budget allows.
+    const auto fitting_threads = [&](const std::function<double(int)>& bytes) {
+        int t = std::max(1, ctx.threads);
+        while (t > 1 && bytes(t) > ctx.budget_bytes) --t;
+        return t;
+    };
     const Progress none;
     const Progress& progress = ctx.progress ? *ctx.progress : none;
     const LowRankStage temporal(options_.temporal), still(options_.still);
@@ -247,7 +259,9 @@ void HybridStage::run(const FrameSource& source, const FrameConsumer& consume, c
     std::vector<double> sums(static_cast<size_t>(F)), still_levels(static_cast<size_t>(F));
     const Progress rebuild = part_of(progress, 0.3, 0.2);
     inner.progress = &rebuild;
-    inner.budget_bytes = ctx.budget_bytes - maps_bytes(s) - first_pass_bytes(s, ctx.threads);
+    // As many threads as the budget holds frames being rebuilt and diffused (min_bytes: one).
+    inner.threads = fitting_threads([&](int t) { return rebuild_bytes(s, t); });
+    inner.budget_bytes = ctx.budget_bytes - maps_bytes(s) - first_pass_bytes(s, inner.threads);
     temporal.reconstruct(source, std::move(stats), [&](int64_t t, float* pixels) {
         temporal_frames.write_frame(t, pixels);
         std::vector<float> estimate(pixels, pixels + frame_samples);
@@ -322,7 +336,8 @@ void HybridStage::run(const FrameSource& source, const FrameConsumer& consume, c
     access.values = [&](int64_t f) { return window.at(f)->values.data(); };
     access.guide = [&](int64_t f) { return window.at(f)->guide.data(); };
     access.image = [&](int64_t f) { return window.at(f)->image.data(); };
-    const int64_t h = mc.half_width, batch = std::max(1, ctx.threads);
+    const int window_threads = fitting_threads([&](int t) { return window_bytes(s, t); });
+    const int64_t h = mc.half_width, batch = window_threads;
     std::vector<double> frame_weight(static_cast<size_t>(F), 0.0);
     for (int64_t t0 = 0; t0 < F; t0 += batch) {
         const int64_t t1 = std::min(F, t0 + batch);
@@ -335,7 +350,7 @@ void HybridStage::run(const FrameSource& source, const FrameConsumer& consume, c
                 entering.push_back(f);
             }
         const double at = 0.55 + 0.45 * t0 / F;
-        parallel_for(static_cast<int64_t>(entering.size()), ctx.threads, [&](int64_t i) {
+        parallel_for(static_cast<int64_t>(entering.size()), window_threads, [&](int64_t i) {
             const int64_t f = entering[static_cast<size_t>(i)];
             WindowFrame& w = *window.at(f);
             std::vector<float> frame(static_cast<size_t>(frame_samples));
@@ -347,11 +362,12 @@ void HybridStage::run(const FrameSource& source, const FrameConsumer& consume, c
             guide_frames.read_rows(f, 0, H, w.guide.data());
             flow_image(w.guide.data(), W, H, C, scale, w.image.data());
         }, {progress, at, 0, "motion compensation"});
-        parallel_for(t1 - t0, ctx.threads, [&](int64_t i) {
+        parallel_for(t1 - t0, window_threads, [&](int64_t i) {
             const int64_t t = t0 + i;
-            std::vector<float> out(static_cast<size_t>(frame_samples)), aligned(out.size());
+            std::vector<float> out(static_cast<size_t>(frame_samples));
             temporal_frames.read_rows(t, 0, H, out.data());
             if (!pixels.empty()) {
+                std::vector<float> aligned(out.size());  // gone before the frame's diffusion (window_bytes)
                 first_pass.read_rows(t, 0, H, aligned.data());  // a pixel with nothing to average keeps it
                 frame_weight[static_cast<size_t>(t)] = averager.average(t, access, aligned.data());
                 for (const int64_t p : pixels) {
