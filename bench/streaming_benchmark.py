@@ -172,10 +172,11 @@ def main():
         new = run_shot(name, args.cli, work, threads, args.config)
         if args.config and name in old:  # keep the rows not re-run
             rerun = {(r["config"], r["threads"]) for r in new["rows"]}
-            kept = [r for r in old[name]["rows"] if (r["config"], r["threads"]) not in rerun]
-            new["rows"] = new["rows"][:1] + [r for r in kept if r["threads"] is not None] + new["rows"][1:]
-            for r in new["rows"]:
-                r["ratio_to_floor"] = r["wall"] / new["floor"]
+            kept = [r for r in old[name]["rows"] if (r["config"], r["threads"]) not in rerun and r["threads"] is not None]
+            for r in kept:  # measured against the floor of their own run, which the note names
+                if "earlier run" not in r.get("note", ""):
+                    r["note"] = (f"earlier run (I/O floor {old[name]['floor']:.1f} s) " + r.get("note", "")).strip()
+            new["rows"] = new["rows"][:1] + kept + new["rows"][1:]
         old[name] = new
         results = [old[n] for n in SHOTS if n in old]
         (docs / "streaming.json").write_text(json.dumps(results, indent=1))
