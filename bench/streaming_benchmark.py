@@ -38,7 +38,16 @@ CONFIGS = [
     ("--quality fast --memory 3G", ["denoise", "--quality", "fast", "--memory", "3G"], False, ("1080p-200",)),
     ("--quality balanced", ["denoise", "--quality", "balanced"], True, ALL),
     ("--prefilter oidn", ["denoise", "--prefilter", "oidn"], False, ("1080p-32",)),
+    # a budget just above the least this shot runs in: many bands, every buffer counted
+    ("--quality balanced --memory 1200M", ["denoise", "--quality", "balanced", "--memory", "1200M"], False,
+     ("1080p-32",)),
 ]
+
+
+def size_bytes(text):
+    """'1200M', '4G' as the CLI reads them (binary units)."""
+    units = {"K": 2**10, "M": 2**20, "G": 2**30, "T": 2**40}
+    return float(text[:-1]) * units[text[-1].upper()] if text[-1].upper() in units else float(text)
 
 
 def make_frames(work, width, height, frames):
@@ -106,6 +115,9 @@ def run_shot(name, cli, work, threads_all, only_configs=None):
                 env = dict(os.environ, OPENBLAS_NUM_THREADS="1", OPENCV_FOR_THREADS_NUM="1", OMP_NUM_THREADS="1")
             rc, wall, cpu, rss, tail = timed(cmd, env)
             row = dict(config=label, threads=threads, wall=wall, cpu=cpu, rss=rss, rc=rc)
+            given = args[args.index("--memory") + 1] if "--memory" in args else memory
+            if given and rc == 0:
+                row["note"] = f"peak RSS - budget ({given}): {(rss - size_bytes(given)) / 2**30:+.2f} GiB"
             if rc != 0:
                 row["error"] = tail
             rows.append(row)
@@ -160,10 +172,11 @@ def main():
         new = run_shot(name, args.cli, work, threads, args.config)
         if args.config and name in old:  # keep the rows not re-run
             rerun = {(r["config"], r["threads"]) for r in new["rows"]}
-            kept = [r for r in old[name]["rows"] if (r["config"], r["threads"]) not in rerun]
-            new["rows"] = new["rows"][:1] + [r for r in kept if r["threads"] is not None] + new["rows"][1:]
-            for r in new["rows"]:
-                r["ratio_to_floor"] = r["wall"] / new["floor"]
+            kept = [r for r in old[name]["rows"] if (r["config"], r["threads"]) not in rerun and r["threads"] is not None]
+            for r in kept:  # measured against the floor of their own run, which the note names
+                if "earlier run" not in r.get("note", ""):
+                    r["note"] = (f"earlier run (I/O floor {old[name]['floor']:.1f} s) " + r.get("note", "")).strip()
+            new["rows"] = new["rows"][:1] + kept + new["rows"][1:]
         old[name] = new
         results = [old[n] for n in SHOTS if n in old]
         (docs / "streaming.json").write_text(json.dumps(results, indent=1))

@@ -8,6 +8,7 @@
 #include <opencv2/video/tracking.hpp>
 
 #include "statfilter/error.hpp"
+#include "statfilter/fast_log_exp.hpp"
 
 namespace statfilter {
 namespace {
@@ -89,7 +90,15 @@ void aligned_values(const float* input, int64_t count, double gain, ValueTransfo
 }
 
 void aligned_guide(const float* estimate, int64_t count, double gain, double mean, float* out) {
-    for (int64_t i = 0; i < count; ++i) out[i] = static_cast<float>(std::log1p(std::max(0.0, estimate[i] / gain / mean)));
+    // In blocks through fast_math's vectorised log1p (NaN becomes 0: std::max keeps its first argument).
+    constexpr int64_t block = 1024;
+    double v[block];
+    for (int64_t i0 = 0; i0 < count; i0 += block) {
+        const int64_t m = std::min(block, count - i0);
+        for (int64_t i = 0; i < m; ++i) v[i] = std::max(0.0, estimate[i0 + i] / gain / mean);
+        fast_math::signed_log1p(v, static_cast<size_t>(m), 1.0);
+        for (int64_t i = 0; i < m; ++i) out[i0 + i] = static_cast<float>(v[i]);
+    }
 }
 
 double positive_sum(const float* frame, int64_t count) {
@@ -159,6 +168,14 @@ double GuideScale::scale() {
 AlignedAverager::AlignedAverager(const Shape& shape, std::vector<int64_t> pixels, const AlignedAverageOptions& options,
                                  const std::vector<float>* vectors)
     : shape_(shape), pixels_(std::move(pixels)), options_(options), vectors_(vectors && !vectors->empty() ? vectors : nullptr) {}
+
+double AlignedAverager::working_bytes(const Shape& s, int64_t pixels) {
+    const double n = static_cast<double>(pixels), P = static_cast<double>(s.pixels());
+    // sum (C doubles), weight, where (2 floats), tracked, by_vector; the flow (2 floats a pixel),
+    // DIS's upsampled fields (2 floats) and ~16 bytes a pixel of its pyramid and refinement.
+    return n * (static_cast<double>(s.channels) * sizeof(double) + sizeof(double) + 2 * sizeof(float) + 2) +
+           P * (2 * sizeof(float) + 2 * sizeof(float) + 16);
+}
 
 double AlignedAverager::average(int64_t t, const AlignedWindow& window, float* out) const {
     const Shape& s = shape_;

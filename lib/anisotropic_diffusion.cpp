@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "statfilter/error.hpp"
+#include "statfilter/fast_log_exp.hpp"
 
 namespace statfilter {
 
@@ -15,11 +16,6 @@ DiffusionFlux parse_diffusion_flux(const std::string& name) {
 }
 
 namespace {
-
-double conductance(DiffusionFlux flux, double gradient2, double inv_k2) {
-    const double r = gradient2 * inv_k2;
-    return flux == DiffusionFlux::Study ? 1.0 / std::sqrt(1.0 + r) : std::exp(-r);
-}
 
 // The robust spread of neighbour differences: 1.4826 x the median of |u(x+1) - u(x)| over the frame.
 double gradient_noise(const std::vector<double>& u, int64_t width, int64_t height, int64_t channels) {
@@ -41,6 +37,11 @@ double gradient_noise(const std::vector<double>& u, int64_t width, int64_t heigh
 
 }  // namespace
 
+double diffusion_working_bytes(int64_t pixels, int64_t channels) {
+    const double P = static_cast<double>(pixels);
+    return sizeof(double) * (3.0 * P * static_cast<double>(channels) + 2.0 * P);
+}
+
 void diffuse_frame(float* pixels, int64_t width, int64_t height, int64_t channels, const DiffusionOptions& o) {
     if (!(o.dt > 0 && o.dt <= 0.25))
         throw Error(Status::InvalidArgument, "diffusion step dt must be in (0, 0.25] for a stable explicit scheme");
@@ -59,7 +60,8 @@ void diffuse_frame(float* pixels, int64_t width, int64_t height, int64_t channel
     const bool separate = o.log_domain && o.conserve;
     std::vector<double> edges_of(separate ? static_cast<size_t>(n) : 0);
     auto to_log = [&](const std::vector<double>& from, std::vector<double>& to) {
-        for (int64_t i = 0; i < n; ++i) to[i] = std::copysign(std::log1p(std::fabs(from[i]) / eps), from[i]);
+        if (&to != &from) std::copy(from.begin(), from.end(), to.begin());
+        fast_math::signed_log1p(to.data(), to.size(), 1.0 / eps);  // within 4 ulp of std::log1p, vectorised
     };
     if (separate) to_log(u, edges_of);
     else if (o.log_domain) to_log(u, u);
@@ -73,19 +75,31 @@ void diffuse_frame(float* pixels, int64_t width, int64_t height, int64_t channel
     // Each edge's conductance once per step (east and south of every pixel), shared by the two
     // pixels it joins: half the exp/sqrt calls of evaluating it from both sides, same values.
     std::vector<double> east(static_cast<size_t>(width * height), 0.0), south(east.size(), 0.0);
-    auto edge = [&](const double* a, const double* b) {  // a and b point into g
+    // r = |grad|^2 / channels / K^2 along each edge, then every edge's conductance in one call (a loop
+    // that vectorises: the exp was a tenth of a balanced run).
+    auto squared = [&](const double* a, const double* b) {  // a and b point into g
         double g2 = 0;
         for (int64_t ch = 0; ch < channels; ++ch) g2 += (b[ch] - a[ch]) * (b[ch] - a[ch]);
-        return o.dt * conductance(o.flux, g2 / channels, inv_k2);
+        return g2 / channels * inv_k2;
+    };
+    auto conductances = [&](std::vector<double>& r) {
+        if (o.flux == DiffusionFlux::PeronaMalik) {
+            fast_math::exp_of_negative(r.data(), r.size());
+            for (double& v : r) v *= o.dt;
+        } else {
+            for (double& v : r) v = o.dt * (1.0 / std::sqrt(1.0 + v));
+        }
     };
     for (int it = 0; it < o.iterations; ++it) {
         if (separate && it > 0) to_log(u, edges_of);
         for (int64_t y = 0; y < height; ++y)
             for (int64_t x = 0; x < width; ++x) {
                 const double* c = &g[y * row + x * channels];
-                if (x + 1 < width) east[y * width + x] = edge(c, c + channels);
-                if (y + 1 < height) south[y * width + x] = edge(c, c + row);
+                east[y * width + x] = x + 1 < width ? squared(c, c + channels) : 0.0;
+                south[y * width + x] = y + 1 < height ? squared(c, c + row) : 0.0;
             }
+        conductances(east);
+        conductances(south);
         for (int64_t y = 0; y < height; ++y)
             for (int64_t x = 0; x < width; ++x) {
                 const double* c = &u[y * row + x * channels];
@@ -104,10 +118,8 @@ void diffuse_frame(float* pixels, int64_t width, int64_t height, int64_t channel
         u.swap(next);
     }
     constexpr double lim = 3.4028234663852886e38;
-    for (int64_t i = 0; i < n; ++i) {
-        double v = o.log_domain && !separate ? std::copysign(eps * std::expm1(std::fabs(u[i])), u[i]) : u[i];
-        pixels[i] = static_cast<float>(std::clamp(v, -lim, lim));
-    }
+    if (o.log_domain && !separate) fast_math::signed_expm1(u.data(), u.size(), eps);
+    for (int64_t i = 0; i < n; ++i) pixels[i] = static_cast<float>(std::clamp(u[i], -lim, lim));
 }
 
 }  // namespace statfilter

@@ -11,6 +11,7 @@
 
 #include "filters/low_rank_reconstruction.hpp"
 #include "statfilter/error.hpp"
+#include "statfilter/fast_log_exp.hpp"
 
 namespace statfilter {
 namespace {
@@ -243,9 +244,16 @@ std::vector<cv::Mat> scores_domain(const Sequence& band, const std::vector<doubl
     std::vector<cv::Mat> lum = luminance(band);
     parallel_for(static_cast<int64_t>(lum.size()), resolve_threads(0), [&](int64_t f) {
         if (blur) cv::medianBlur(lum[f], lum[f], 5);
-        for (int64_t p = 0; p < static_cast<int64_t>(lum[f].total()); ++p) {
-            float& v = lum[f].at<float>(static_cast<int>(p));
-            v = static_cast<float>(std::log1p(gain[f] * v / unit));
+        // In blocks through fast_math's vectorised log1p (the luminance is >= 0 here).
+        float* v = lum[f].ptr<float>();
+        const auto total = static_cast<int64_t>(lum[f].total());
+        constexpr int64_t block = 1024;
+        double x[block];
+        for (int64_t p0 = 0; p0 < total; p0 += block) {
+            const int64_t m = std::min(block, total - p0);
+            for (int64_t i = 0; i < m; ++i) x[i] = gain[f] * v[p0 + i] / unit;
+            fast_math::signed_log1p(x, static_cast<size_t>(m), 1.0);
+            for (int64_t i = 0; i < m; ++i) v[p0 + i] = static_cast<float>(x[i]);
         }
     }, {kNoProgress});
     return lum;

@@ -56,17 +56,22 @@ std::vector<TemporalOutlier> find_temporal_outliers(const Sequence& seq, Channel
     const double half = 0.5 * o.z;
     parallel_for(F, resolve_threads(0), [&](int64_t f) {
         std::vector<float> frame(static_cast<size_t>(P * s.channels)), score(static_cast<size_t>(P));
+        std::vector<double> transformed(static_cast<size_t>(N));
         std::vector<TemporalOutlier>& out = per_frame[static_cast<size_t>(f)];
         seq.get_frame(f, frame.data());
+        // The group's samples transformed in one call (a loop that vectorises), then judged.
+        for (int64_t p = 0; p < P; ++p)
+            for (int64_t c = 0; c < C; ++c)
+                transformed[static_cast<size_t>(p * C + c)] = frame[static_cast<size_t>(p * s.channels + group.first + c)];
+        forward_transform(o.transform, o.scale, transformed.data(), transformed.size());
+        const auto z_of = [&](int64_t g) {
+            return (std::fabs(transformed[static_cast<size_t>(g)]) - std::fabs(median[g])) / std::max<double>(deviation[g], floor);
+        };
         for (int64_t p = 0; p < P; ++p) {
             float worst = 0;
             for (int64_t c = 0; c < C; ++c) {
-                double v = frame[static_cast<size_t>(p * s.channels + group.first + c)];
-                if (!std::isfinite(v)) continue;
-                forward_transform(o.transform, o.scale, &v, 1);
-                const int64_t g = p * C + c;
-                const double z = (std::fabs(v) - std::fabs(median[g])) / std::max<double>(deviation[g], floor);
-                worst = std::max(worst, static_cast<float>(z));
+                if (!std::isfinite(frame[static_cast<size_t>(p * s.channels + group.first + c)])) continue;
+                worst = std::max(worst, static_cast<float>(z_of(p * C + c)));
             }
             score[p] = worst;
         }
@@ -83,10 +88,8 @@ std::vector<TemporalOutlier> find_temporal_outliers(const Sequence& seq, Channel
             if (neighbours > 1) continue;  // part of something that moves or changes: real
             for (int64_t c = 0; c < C; ++c) {
                 const int64_t g = p * C + c;
-                double v = frame[static_cast<size_t>(p * s.channels + group.first + c)];
-                if (!std::isfinite(v)) continue;
-                forward_transform(o.transform, o.scale, &v, 1);
-                if (!((std::fabs(v) - std::fabs(median[g])) / std::max<double>(deviation[g], floor) > o.z)) continue;
+                if (!std::isfinite(frame[static_cast<size_t>(p * s.channels + group.first + c)])) continue;
+                if (!(z_of(g) > o.z)) continue;
                 double back = median[g];
                 inverse_transform(o.transform, o.scale, &back, 1);
                 out.push_back({f, g, back});

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "statfilter/error.hpp"
+#include "statfilter/fast_log_exp.hpp"
 
 namespace statfilter {
 
@@ -24,7 +25,7 @@ void forward_transform(ValueTransform t, double scale, double* v, size_t n) {
         for (size_t i = 0; i < n; ++i) v[i] = std::copysign(std::sqrt(std::fabs(v[i]) * inv), v[i]);
         return;
     case ValueTransform::Log:
-        for (size_t i = 0; i < n; ++i) v[i] = std::copysign(std::log1p(std::fabs(v[i]) * inv), v[i]);
+        fast_math::signed_log1p(v, n, inv);  // within 4 ulp of std::log1p, vectorised
         return;
     }
 }
@@ -36,7 +37,7 @@ void inverse_transform(ValueTransform t, double scale, double* v, size_t n) {
         for (size_t i = 0; i < n; ++i) v[i] = scale * std::copysign(v[i] * v[i], v[i]);
         return;
     case ValueTransform::Log:
-        for (size_t i = 0; i < n; ++i) v[i] = scale * std::copysign(std::expm1(std::fabs(v[i])), v[i]);
+        fast_math::signed_expm1(v, n, scale);  // within 4 ulp of std::expm1, vectorised
         return;
     }
 }
@@ -81,15 +82,21 @@ double transform_level(const Sequence& seq, ChannelSelection group) {
 namespace {
 
 // The correction p when output samples are clamped at 0: with the samples sorted descending, the
-// first k kept and the rest at 0, solve(first, k) gives the p matching the mean; the right k is the
-// one whose p keeps exactly those k positive (out is increasing in the sample and in p).
-double solve_with_clamp(std::vector<double> x, const std::function<double(double, double)>& out,
-                        const std::function<double(const double*, int64_t)>& solve) {
+// first k kept and the rest at 0, the p matching the mean from the k largest; the right k is the
+// one whose p keeps exactly those k positive (out is increasing in the sample and in p). The sums
+// over the k largest are running sums, added in the same order as summing each prefix afresh
+// (the same numbers), so the search is linear after the sort instead of quadratic.
+template <class Out, class Solve>
+double solve_with_clamp(std::vector<double> x, double b, const Out& out, const Solve& solve) {
     std::sort(x.begin(), x.end(), std::greater<double>());
     const auto n = static_cast<int64_t>(x.size());
-    double p = solve(x.data(), n);
+    double sx = 0, su = 0;
+    for (int64_t i = 0; i < n; ++i) sx += x[i], su += x[i] + b;
+    double p = solve(sx, su, n);
+    sx = su = 0;
     for (int64_t k = 1; k <= n; ++k) {
-        p = solve(x.data(), k);
+        sx += x[k - 1], su += x[k - 1] + b;
+        p = solve(sx, su, k);
         if (out(x[k - 1], p) > 0 && (k == n || !(out(x[k], p) > 0))) return p;
     }
     return p;
@@ -117,25 +124,22 @@ MeanCorrection solve_mean_correction(ValueTransform t, double scale, const doubl
     c.b = t == ValueTransform::Log ? scale : 0.0;
     const double b = c.b;
     auto out = [&](double xv, double q) { return multiplicative ? xv + q * (xv + b) : xv + q; };
-    // The correction when the k largest samples are the ones kept (all of them without clamping).
-    auto solve = [&](const double* sorted_or_all, int64_t k) {
-        double sx = 0, su = 0;
-        for (int64_t i = 0; i < k; ++i) sx += sorted_or_all[i], su += sorted_or_all[i] + b;
+    // The correction when the k largest samples are the ones kept (all of them without clamping),
+    // from their sum sx and the sum su of x + b.
+    auto solve = [&](double sx, double su, int64_t k) {
         if (!multiplicative) return (total - sx) / static_cast<double>(k);
         return su > 0 ? (total - sx) / su : 0.0;
     };
-    c.p = solve(x, F);
-    if (multiplicative) {
-        double su = 0;
-        for (int64_t f = 0; f < F; ++f) su += x[f] + b;
-        if (!(su > 0)) {  // nothing left to scale: the mean itself
-            c.kind = MeanCorrection::Constant;
-            c.p = target_mean;
-            return c;
-        }
+    double sx = 0, su = 0;
+    for (int64_t i = 0; i < F; ++i) sx += x[i], su += x[i] + b;
+    c.p = solve(sx, su, F);
+    if (multiplicative && !(su > 0)) {  // nothing left to scale: the mean itself
+        c.kind = MeanCorrection::Constant;
+        c.p = target_mean;
+        return c;
     }
     if (non_negative && std::any_of(x, x + F, [&](double xv) { return out(xv, c.p) < 0; }))
-        c.p = solve_with_clamp(std::vector<double>(x, x + F), out, solve);
+        c.p = solve_with_clamp(std::vector<double>(x, x + F), b, out, solve);
     return c;
 }
 

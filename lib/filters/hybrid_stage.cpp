@@ -15,6 +15,7 @@
 #include "pipeline/parallel.hpp"
 #include "pipeline/scratch_frames.hpp"
 #include "statfilter/aligned_frame.hpp"
+#include "statfilter/anisotropic_diffusion.hpp"
 #include "statfilter/filter_registry.hpp"
 
 namespace statfilter {
@@ -96,29 +97,55 @@ double HybridStage::analysis_bytes(const Shape& s) const {
            2.0 * TemporalChange::kHalo * s.frames * s.width * s.channels * (sizeof(float) + sizeof(double));
 }
 
+double HybridStage::maps_bytes(const Shape& s) {
+    // After the analysis: alpha (a result), the moving weight and its grown copy (float), the moving
+    // mask and the moving pixels' indices (at most every pixel).
+    return static_cast<double>(s.pixels()) * (3 * sizeof(float) + 1 + sizeof(int64_t));
+}
+
+double HybridStage::first_pass_bytes(const Shape& s, int threads) const {
+    // Per thread while I_T is rebuilt: the first pass' copy of the frame and the diffusion's working set.
+    const double frame = static_cast<double>(s.pixels()) * s.channels * sizeof(float);
+    return threads * (frame + diffusion_working_bytes(s.pixels(), s.channels));
+}
+
 double HybridStage::window_bytes(const Shape& s, int threads) const {
     const double frame = static_cast<double>(s.pixels()) * s.channels * sizeof(float);
     const double frames = 2.0 * options_.mc.half_width + threads;  // the window of every frame being averaged
-    // Each window frame: samples, guide, image; each thread: I_T, the first pass, the average's sums
-    // and the flow (two floats a pixel) with DIS's pyramids.
-    return frames * (2 * frame + static_cast<double>(s.pixels())) + threads * (4 * frame + 16.0 * s.pixels());
+    // Each window frame: samples, guide, image. Each thread: I_T, then either the first pass with the
+    // average's own buffers, the flow and DIS's images, or the light diffusion pass of the frame it
+    // hands on (a frame entering the window is read through one more frame, a smaller need).
+    const double refine = options_.refine_after ? diffusion_working_bytes(s.pixels(), s.channels) : 0.0;
+    const double per_thread = frame + std::max({frame + AlignedAverager::working_bytes(s, s.pixels()), refine, frame});
+    return frames * (2 * frame + static_cast<double>(s.pixels())) + threads * per_thread + maps_bytes(s);
+}
+
+double HybridStage::rebuild_bytes(const Shape& s, int threads) const {
+    const LowRankStage temporal(options_.temporal);
+    const int64_t rank = options_.temporal.per_pixel ? options_.temporal.max_rank : options_.temporal.known_rank;
+    return temporal.emission_bytes(s, rank, threads) + first_pass_bytes(s, threads) + maps_bytes(s);
 }
 
 double HybridStage::min_bytes(const Shape& s, int threads) const {
+    (void)threads;  // the rebuild and the window run on fewer threads when the budget is tight
     const LowRankStage temporal(options_.temporal);
-    const double frame = static_cast<double>(s.pixels()) * s.channels * sizeof(float);
     const int64_t rank = options_.temporal.per_pixel ? options_.temporal.max_rank : options_.temporal.known_rank;
-    // The passes: the temporal model, a band and the motion maps; the rebuild: the model, the moving
-    // mask and the first pass' diffusion (a few working copies of its frame per thread); the window.
+    // The passes: the temporal model, a band and the motion maps; the rebuild: the model, the maps and
+    // the first pass made of each frame; the window. The last two on one thread at least.
     const double passes = temporal.pass_bytes(s, rank) + temporal.band_row_bytes(s) + analysis_bytes(s);
-    const double rebuild = temporal.emission_bytes(s, rank, threads) + threads * 6 * frame + 5.0 * s.pixels();
-    return std::max({passes, rebuild, window_bytes(s, threads)});
+    return std::max({passes, rebuild_bytes(s, 1), window_bytes(s, 1)});
 }
 
 void HybridStage::run(const FrameSource& source, const FrameConsumer& consume, const StageContext& ctx, Results& results) {
     const Shape& s = source.shape();
     const int64_t F = s.frames, P = s.pixels(), C = s.channels, H = s.height, W = s.width;
     const int64_t frame_samples = P * C;
+    // The rebuild and the window hold a few frames per thread: as many threads as the budget allows.
+    const auto fitting_threads = [&](const std::function<double(int)>& bytes) {
+        int t = std::max(1, ctx.threads);
+        while (t > 1 && bytes(t) > ctx.budget_bytes) --t;
+        return t;
+    };
     const Progress none;
     const Progress& progress = ctx.progress ? *ctx.progress : none;
     const LowRankStage temporal(options_.temporal), still(options_.still);
@@ -128,7 +155,8 @@ void HybridStage::run(const FrameSource& source, const FrameConsumer& consume, c
     // 1. Statistics. The Gram, and each frame's light level for the change test, in one read.
     TemporalChangeOptions change_options;
     change_options.z_threshold = options_.change_z;
-    TemporalChange change(s, change_options);
+    auto change_test = std::make_unique<TemporalChange>(s, change_options);
+    TemporalChange& change = *change_test;
     const bool test_change = options_.change_z > 0;
     const Progress gram_progress = part_of(progress, 0.0, 0.1);
     inner.progress = &gram_progress;
@@ -143,7 +171,8 @@ void HybridStage::run(const FrameSource& source, const FrameConsumer& consume, c
     // Components below the noise threshold are noise, and PCA aligns them with the noisiest pixels
     // (a few outlier samples): their energy piles up there and looks like motion.
     if (options_.signal_components) alpha_options.components = static_cast<int>(std::min<int64_t>(alpha_options.components, signal.rank));
-    GlobalMotionMap alpha_map(basis, signal.noise_sigma, alpha_options, H, W, group.group.count);
+    auto alpha_analysis = std::make_unique<GlobalMotionMap>(basis, signal.noise_sigma, alpha_options, H, W, group.group.count);
+    GlobalMotionMap& alpha_map = *alpha_analysis;
 
     // Then two reads of bands with the change test's halo: the light fit and the pixels' noise, then
     // the energies and the scores. A kept band (the shot fits) is not read again.
@@ -184,6 +213,8 @@ void HybridStage::run(const FrameSource& source, const FrameConsumer& consume, c
     auto weight = std::make_shared<Sequence>(alpha->shape());
     for (int64_t p = 0; p < P; ++p) weight->at(0, p / W, p % W, 0) = 1.0f - alpha->at(0, p / W, p % W, 0);
     if (test_change) combine_max(*weight, *change.map());
+    alpha_analysis.reset();  // their per-pixel sums are not needed past here (maps_bytes)
+    change_test.reset();
     const double moving_share = mean_of_map(*weight);
     results.set("motion_fraction", moving_share);
     results.set_image("alpha", alpha);
@@ -228,7 +259,9 @@ void HybridStage::run(const FrameSource& source, const FrameConsumer& consume, c
     std::vector<double> sums(static_cast<size_t>(F)), still_levels(static_cast<size_t>(F));
     const Progress rebuild = part_of(progress, 0.3, 0.2);
     inner.progress = &rebuild;
-    inner.budget_bytes = ctx.budget_bytes - static_cast<double>(P) * (sizeof(float) + 1);
+    // As many threads as the budget holds frames being rebuilt and diffused (min_bytes: one).
+    inner.threads = fitting_threads([&](int t) { return rebuild_bytes(s, t); });
+    inner.budget_bytes = ctx.budget_bytes - maps_bytes(s) - first_pass_bytes(s, inner.threads);
     temporal.reconstruct(source, std::move(stats), [&](int64_t t, float* pixels) {
         temporal_frames.write_frame(t, pixels);
         std::vector<float> estimate(pixels, pixels + frame_samples);
@@ -269,17 +302,22 @@ void HybridStage::run(const FrameSource& source, const FrameConsumer& consume, c
     }
     const auto gain = [&](int64_t f) { return mc.frame_gain.empty() ? 1.0 : mc.frame_gain[static_cast<size_t>(f)]; };
 
-    // The flow images' scale: the guide's 99.5th percentile, in two reads of the first pass.
+    // The flow images' scale: the guide's 99.5th percentile, in two reads of the guides. Each frame's
+    // guide is made once, from its first pass, and parked for the second read and the window.
     GuideScale quantile(frame_samples);
+    ScratchFrames guide_frames(s, source.attributes());
     for (const bool counting : {true, false}) {
         const int64_t batch = std::max(1, ctx.threads);
         std::vector<std::vector<float>> guides(static_cast<size_t>(batch), std::vector<float>(static_cast<size_t>(frame_samples)));
         for (int64_t f0 = 0; f0 < F; f0 += batch) {
             const int64_t n = std::min(batch, F - f0);
             parallel_for(n, ctx.threads, [&](int64_t i) {
+                float* guide = guides[static_cast<size_t>(i)].data();
+                if (!counting) return guide_frames.read_rows(f0 + i, 0, H, guide);
                 std::vector<float> estimate(static_cast<size_t>(frame_samples));
                 first_pass.read_rows(f0 + i, 0, H, estimate.data());
-                aligned_guide(estimate.data(), frame_samples, gain(f0 + i), mean, guides[static_cast<size_t>(i)].data());
+                aligned_guide(estimate.data(), frame_samples, gain(f0 + i), mean, guide);
+                guide_frames.write_frame(f0 + i, guide);
             }, {progress, 0.5 + (counting ? 0.0 : 0.025) + 0.025 * f0 / F, 0, "motion compensation"});
             for (int64_t i = 0; i < n; ++i) {
                 if (counting) quantile.count(f0 + i, guides[static_cast<size_t>(i)].data());
@@ -298,7 +336,8 @@ void HybridStage::run(const FrameSource& source, const FrameConsumer& consume, c
     access.values = [&](int64_t f) { return window.at(f)->values.data(); };
     access.guide = [&](int64_t f) { return window.at(f)->guide.data(); };
     access.image = [&](int64_t f) { return window.at(f)->image.data(); };
-    const int64_t h = mc.half_width, batch = std::max(1, ctx.threads);
+    const int window_threads = fitting_threads([&](int t) { return window_bytes(s, t); });
+    const int64_t h = mc.half_width, batch = window_threads;
     std::vector<double> frame_weight(static_cast<size_t>(F), 0.0);
     for (int64_t t0 = 0; t0 < F; t0 += batch) {
         const int64_t t1 = std::min(F, t0 + batch);
@@ -311,7 +350,7 @@ void HybridStage::run(const FrameSource& source, const FrameConsumer& consume, c
                 entering.push_back(f);
             }
         const double at = 0.55 + 0.45 * t0 / F;
-        parallel_for(static_cast<int64_t>(entering.size()), ctx.threads, [&](int64_t i) {
+        parallel_for(static_cast<int64_t>(entering.size()), window_threads, [&](int64_t i) {
             const int64_t f = entering[static_cast<size_t>(i)];
             WindowFrame& w = *window.at(f);
             std::vector<float> frame(static_cast<size_t>(frame_samples));
@@ -320,15 +359,15 @@ void HybridStage::run(const FrameSource& source, const FrameConsumer& consume, c
             w.image.resize(static_cast<size_t>(P));
             source.read_rows(f, 0, H, frame.data());
             aligned_values(frame.data(), frame_samples, gain(f), mc.transform, w.values.data());
-            first_pass.read_rows(f, 0, H, frame.data());
-            aligned_guide(frame.data(), frame_samples, gain(f), mean, w.guide.data());
+            guide_frames.read_rows(f, 0, H, w.guide.data());
             flow_image(w.guide.data(), W, H, C, scale, w.image.data());
         }, {progress, at, 0, "motion compensation"});
-        parallel_for(t1 - t0, ctx.threads, [&](int64_t i) {
+        parallel_for(t1 - t0, window_threads, [&](int64_t i) {
             const int64_t t = t0 + i;
-            std::vector<float> out(static_cast<size_t>(frame_samples)), aligned(out.size());
+            std::vector<float> out(static_cast<size_t>(frame_samples));
             temporal_frames.read_rows(t, 0, H, out.data());
             if (!pixels.empty()) {
+                std::vector<float> aligned(out.size());  // gone before the frame's diffusion (window_bytes)
                 first_pass.read_rows(t, 0, H, aligned.data());  // a pixel with nothing to average keeps it
                 frame_weight[static_cast<size_t>(t)] = averager.average(t, access, aligned.data());
                 for (const int64_t p : pixels) {

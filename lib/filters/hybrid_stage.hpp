@@ -52,6 +52,9 @@ public:
 private:
     double analysis_bytes(const Shape& shape) const;
     double window_bytes(const Shape& shape, int threads) const;
+    double first_pass_bytes(const Shape& shape, int threads) const;
+    double rebuild_bytes(const Shape& shape, int threads) const;
+    static double maps_bytes(const Shape& shape);
     HybridStageOptions options_;
     ParamSet refine_;  // the light diffusion pass
 };

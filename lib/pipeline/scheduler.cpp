@@ -57,7 +57,11 @@ void Filter::execute(const FrameSource& source, FrameSink& sink, const RunOption
         // A frame stage holds its frame and a few working copies of it (diffusion: doubles) per thread.
         const bool trusting = trusts_time_by_tile(params_);
         const double frame_stages = (pre || post) ? threads * frame_bytes * (trusting ? 9 : 6) : 0;
-        needed = stage->min_bytes(s, threads) + frame_stages;
+        // Reading and writing files, each thread may hold OpenImageIO's buffer of a frame's pixels in
+        // the file's type being decoded and one being encoded: at most a float frame each. At 4K that
+        // is 0.2 GiB a thread, so it is counted, not left to the fixed overhead.
+        const double io_buffers = source.in_memory() ? 0.0 : 2.0 * threads * frame_bytes;
+        needed = stage->min_bytes(s, threads) + frame_stages + io_buffers;
         check_memory_budget(needed, budget, "this run (" + shot_text(s) + ", streamed)");
         const FrameSource* input = &source;
         std::unique_ptr<ScratchFrames> scratch;
@@ -90,7 +94,7 @@ void Filter::execute(const FrameSource& source, FrameSink& sink, const RunOption
         });
         StageContext context;
         context.threads = threads;
-        context.budget_bytes = budget - frame_stages;
+        context.budget_bytes = budget - frame_stages - io_buffers;
         context.progress = &stage_progress;
         // What a preset picked is known before its first frame is handed on: the frames say so.
         std::once_flag provenance;

@@ -66,6 +66,10 @@ public:
     AlignedAverager(const Shape& shape, std::vector<int64_t> pixels, const AlignedAverageOptions& options,
                     const std::vector<float>* vectors);
     const std::vector<int64_t>& pixels() const { return pixels_; }
+    // The bytes average() holds for `pixels` averaged pixels of a frame of shape's size: each pixel's
+    // sums and weight, where it is and whether it is followed; the flow field at full resolution and
+    // DIS's own images (pyramid, gradients, the variational refinement's fields at its finest scale).
+    static double working_bytes(const Shape& shape, int64_t pixels);
     // Frame t's average from the window's frames t - h .. t + h (inside the shot), written to out
     // (a frame, contiguous) at the averaged pixels times frame t's gain; a pixel with nothing finite to
     // average is not written. Returns the summed weights. Safe from several threads for different t.

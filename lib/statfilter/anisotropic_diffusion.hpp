@@ -31,5 +31,9 @@ DiffusionFlux parse_diffusion_flux(const std::string& name);
 
 // Diffuses width x height pixels of `channels` interleaved floats in place.
 void diffuse_frame(float* pixels, int64_t width, int64_t height, int64_t channels, const DiffusionOptions& options);
+// The bytes diffuse_frame holds besides the frame itself, at most (the log domain with conserve):
+// the frame, the next step and the log values in double, and two conductances a pixel (the gradient
+// spread's sample, one double a pixel, is freed before they are made).
+double diffusion_working_bytes(int64_t pixels, int64_t channels);
 
 }  // namespace statfilter

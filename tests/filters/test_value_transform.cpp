@@ -4,7 +4,12 @@
 
 #include <random>
 
+#include <cmath>
+#include <cstring>
+#include <limits>
+
 #include "filter_runner.hpp"
+#include "statfilter/fast_log_exp.hpp"
 #include "statfilter/value_transform.hpp"
 #include "synthetic.hpp"
 
@@ -249,5 +254,63 @@ TEST(ValueTransform, TiledResultEqualsUntiledWithTheTransform) {
         const FilterRun whole = run_filter(name, *s.noisy, {{"memory_mb", "4096"}});
         const FilterRun tiled = run_filter(name, *s.noisy, {{"memory_mb", "1"}});
         EXPECT_LT(max_abs_diff(*whole.output, *tiled.output), 1e-5 * max_abs(*whole.output)) << name;
+    }
+}
+
+namespace {
+
+// Distance in units in the last place between two finite doubles of the same sign.
+double ulps(double a, double b) {
+    if (a == b) return 0;
+    int64_t ia, ib;
+    std::memcpy(&ia, &a, sizeof ia);
+    std::memcpy(&ib, &b, sizeof ib);
+    return std::fabs(static_cast<double>(ia - ib));
+}
+
+}  // namespace
+
+// The transforms' own log1p, expm1 and exp(-x) (statfilter/fast_log_exp.hpp) stay within the 4 ulp their
+// header promises of the library's, over the whole range, signs, zeros, infinities and NaN included.
+TEST(ValueTransform, FastLogAndExpStayWithinFourUlpOfTheLibrary) {
+    std::mt19937_64 rng(7);
+    std::uniform_real_distribution<double> exponent(-60.0, 60.0), unit(0.0, 1.0);
+    std::vector<double> x;
+    for (int i = 0; i < 200000; ++i) x.push_back((unit(rng) < 0.5 ? -1 : 1) * std::pow(10.0, exponent(rng) / 6.0));
+    for (double v : {0.0, -0.0, 1e-300, 5e-324, 1.0, 2.0, 0.5, 1e300, std::numeric_limits<double>::max(), 700.0, 709.0, 710.0})
+        x.push_back(v), x.push_back(-v);
+    x.push_back(std::numeric_limits<double>::infinity());
+    x.push_back(-std::numeric_limits<double>::infinity());
+    x.push_back(std::numeric_limits<double>::quiet_NaN());
+    for (const double scale : {1.0, 0.37, 250.0}) {
+        std::vector<double> forward = x, back = x;
+        fast_math::signed_log1p(forward.data(), forward.size(), 1.0 / scale);
+        fast_math::signed_expm1(back.data(), back.size(), scale);
+        double worst_log = 0, worst_exp = 0;
+        for (size_t i = 0; i < x.size(); ++i) {
+            const double want_log = std::copysign(std::log1p(std::fabs(x[i]) * (1.0 / scale)), x[i]);
+            const double want_exp = scale * std::copysign(std::expm1(std::fabs(x[i])), x[i]);
+            if (std::isnan(want_log)) EXPECT_TRUE(std::isnan(forward[i])) << x[i];
+            else if (std::isinf(want_log)) EXPECT_EQ(forward[i], want_log) << x[i];
+            else worst_log = std::max(worst_log, ulps(forward[i], want_log));
+            if (std::isnan(want_exp)) EXPECT_TRUE(std::isnan(back[i])) << x[i];
+            else if (std::isinf(want_exp)) EXPECT_EQ(back[i], want_exp) << x[i];
+            else worst_exp = std::max(worst_exp, ulps(back[i], want_exp));
+        }
+        std::vector<double> decay;
+        for (double v : x) decay.push_back(std::fabs(v) * scale);
+        decay.push_back(-1.0);
+        const std::vector<double> decay_in = decay;
+        fast_math::exp_of_negative(decay.data(), decay.size());
+        double worst_decay = 0;
+        for (size_t i = 0; i < decay.size(); ++i) {
+            const double want = std::exp(-decay_in[i]);
+            if (std::isnan(want)) EXPECT_TRUE(std::isnan(decay[i]));
+            else if (want == 0 || std::isinf(want)) EXPECT_EQ(decay[i], want) << decay_in[i];
+            else worst_decay = std::max(worst_decay, ulps(decay[i], want));
+        }
+        EXPECT_LE(worst_decay, 4) << "scale " << scale;
+        EXPECT_LE(worst_log, 4) << "scale " << scale;
+        EXPECT_LE(worst_exp, 4) << "scale " << scale;
     }
 }
