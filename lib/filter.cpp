@@ -56,6 +56,7 @@ void Filter::execute(const Sequence& input, Sequence& output, const Progress& pr
         } else {
             run_frame_stage("prefilter", params_, *source, *prefiltered, slice(progress, 0, pre_span), results_);
         }
+        if (keeps_prefilter_light(params_)) keep_prefilter_light(*noisy, *prefiltered, resolve_threads(0));
         source = prefiltered.get();
     }
     Sequence* target = &output;

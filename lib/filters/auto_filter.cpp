@@ -296,7 +296,7 @@ protected:
                             want_oidn && problem.empty(), oidn_note);
         }
         auto chosen = create_filter(choice.method);
-        for (const char* name : {"transform", "nonfinite", "shared_basis", "memory_mb", "prefilter_trust"})
+        for (const char* name : {"transform", "nonfinite", "shared_basis", "memory_mb", "prefilter_trust", "keep_mean"})
             chosen->params().set_string(name, resolved.get_string(name));
         if (choice.method == "hybrid")
             for (const auto& spec : motion_params())

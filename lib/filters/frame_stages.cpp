@@ -34,6 +34,10 @@ bool has_frame_stage(const ParamSet& params, const std::string& stage) {
     return params.has(stage) && !params.get_string(stage).empty();
 }
 
+bool keeps_prefilter_light(const ParamSet& params) {
+    return has_frame_stage(params, "prefilter") && params.has("keep_mean") && params.get_int("keep_mean") != 0;
+}
+
 bool trusts_time_by_tile(const ParamSet& params) {
     return has_frame_stage(params, "prefilter") && params.has("prefilter_trust") && params.get_int("prefilter_trust") != 0;
 }

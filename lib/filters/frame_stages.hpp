@@ -49,5 +49,7 @@ bool has_frame_stage(const ParamSet& params, const std::string& stage);
 // True when a prefilter runs and the temporal result is to be blended back towards it tile by tile
 // where the noisy frames do not support it (prefilter_trust; statfilter/time_trust.hpp).
 bool trusts_time_by_tile(const ParamSet& params);
+// True when a prefilter runs and its output is to be scaled to the noisy shot's light (keep_mean).
+bool keeps_prefilter_light(const ParamSet& params);
 
 }  // namespace statfilter

@@ -11,6 +11,7 @@
 #include "pipeline/parallel.hpp"
 #include "pipeline/scratch_frames.hpp"
 #include "pipeline/stage.hpp"
+#include "pipeline/trusted_prefilter.hpp"
 #include "statfilter/filter.hpp"
 #include "statfilter/time_trust.hpp"
 
@@ -73,16 +74,21 @@ void Filter::execute(const FrameSource& source, FrameSink& sink, const RunOption
             start = 0.3;
             scratch = std::make_unique<ScratchFrames>(s, source.attributes());
             if (trusting) trust = std::make_unique<TimeTrust>(s);
+            const Shape one{1, s.height, s.width, s.channels};
+            std::vector<std::vector<double>> noisy_light(static_cast<size_t>(s.frames)), filtered_light(noisy_light.size());
             parallel_for(s.frames, threads, [&](int64_t f) {
                 std::vector<float> frame(samples), noisy;
                 source.read_rows(f, 0, s.height, frame.data());
                 if (trust) noisy = frame;
+                noisy_light[static_cast<size_t>(f)] = channel_sums(frame.data(), one);
                 prefilter->apply(f, frame.data(), s, source.attributes());
+                filtered_light[static_cast<size_t>(f)] = channel_sums(frame.data(), one);
                 if (trust)
                     trust->probe(f, noisy.data(), frame.data(),
                                  [&](float* pixels) { prefilter->apply(f, pixels, s, source.attributes()); });
                 scratch->write_frame(f, frame.data());
             }, {progress, 0.0, start, "prefilter"});
+            if (keeps_prefilter_light(params_)) scratch->set_gain(light_gain(noisy_light, filtered_light));
             input = scratch.get();
         }
         // With the trust blend the temporal frames wait on disk until every frame's fit is known.

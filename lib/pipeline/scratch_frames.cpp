@@ -51,6 +51,10 @@ void ScratchFrames::read_rows(int64_t f, int64_t y0, int64_t y1, float* dst) con
     const int64_t row = shape_.width * shape_.channels * static_cast<int64_t>(sizeof(float));
     transfer(fd_, reinterpret_cast<char*>(dst), static_cast<size_t>((y1 - y0) * row),
              static_cast<off_t>((f * shape_.height + y0) * row), false);
+    if (gain_.empty()) return;
+    const int64_t count = (y1 - y0) * shape_.width;
+    for (int64_t p = 0; p < count; ++p)
+        for (int64_t c = 0; c < shape_.channels; ++c) dst[p * shape_.channels + c] *= gain_[static_cast<size_t>(c)];
 }
 
 void ScratchFrames::write_frame(int64_t f, const float* pixels) {

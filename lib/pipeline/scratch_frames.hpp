@@ -3,6 +3,7 @@
 // $TMPDIR (else /tmp): nothing is left behind, even when the process is killed.
 #pragma once
 #include <memory>
+#include <vector>
 
 #include "pipeline/frame_source.hpp"
 
@@ -21,8 +22,12 @@ public:
     void read_rows(int64_t f, int64_t y0, int64_t y1, float* dst) const override;
     // Frame index f, contiguous (row, pixel, channel). Safe from several threads for different frames.
     void write_frame(int64_t f, const float* pixels);
+    // Every frame read back from now on with channel c times gain[c] (a prefilter's light restored
+    // once the whole shot's is known); empty = as written.
+    void set_gain(std::vector<float> gain) { gain_ = std::move(gain); }
 
 private:
+    std::vector<float> gain_;
     Shape shape_;
     Sequence attributes_;
     int fd_ = -1;

@@ -1,5 +1,6 @@
 #include "pipeline/trusted_prefilter.hpp"
 
+#include <cmath>
 #include <vector>
 
 #include "pipeline/parallel.hpp"
@@ -18,6 +19,51 @@ void prefilter_and_probe(FrameStagePool& prefilter, const Sequence& noisy, Seque
         trust.probe(f, x.data(), y.data(), [&](float* frame) { prefilter.apply(f, frame, s, noisy); });
         prefiltered.set_frame(f, y.data());
     }, progress);
+}
+
+std::vector<double> channel_sums(const float* frame, const Shape& shape) {
+    std::vector<double> sums(static_cast<size_t>(shape.channels), 0.0);
+    for (int64_t p = 0; p < shape.pixels(); ++p)
+        for (int64_t c = 0; c < shape.channels; ++c) {
+            const float v = frame[p * shape.channels + c];
+            if (std::isfinite(v)) sums[static_cast<size_t>(c)] += v;
+        }
+    return sums;
+}
+
+std::vector<float> light_gain(const std::vector<std::vector<double>>& noisy, const std::vector<std::vector<double>>& prefiltered) {
+    if (noisy.empty()) return {};
+    std::vector<double> a(noisy.front().size(), 0.0), b(a.size(), 0.0);
+    for (size_t f = 0; f < noisy.size(); ++f)
+        for (size_t c = 0; c < a.size(); ++c) {
+            a[c] += noisy[f][c];
+            b[c] += prefiltered[f][c];
+        }
+    std::vector<float> gain(a.size(), 1.0f);
+    for (size_t c = 0; c < a.size(); ++c)
+        if (a[c] > 0 && b[c] > 0 && std::isfinite(a[c] / b[c])) gain[c] = static_cast<float>(a[c] / b[c]);
+    return gain;
+}
+
+void keep_prefilter_light(const Sequence& noisy, Sequence& prefiltered, int threads) {
+    const Shape& s = noisy.shape();
+    const Shape frame{1, s.height, s.width, s.channels};
+    const auto samples = static_cast<size_t>(s.pixels() * s.channels);
+    std::vector<std::vector<double>> a(static_cast<size_t>(s.frames)), b(a.size());
+    const Progress none;
+    parallel_for(s.frames, threads, [&](int64_t f) {
+        std::vector<float> x(samples);
+        noisy.get_frame(f, x.data());
+        a[static_cast<size_t>(f)] = channel_sums(x.data(), frame);
+        prefiltered.get_frame(f, x.data());
+        b[static_cast<size_t>(f)] = channel_sums(x.data(), frame);
+    }, ProgressSpan{none, 0, 1, "light"});
+    const std::vector<float> gain = light_gain(a, b);
+    parallel_for(s.frames, threads, [&](int64_t f) {
+        for (int64_t y = 0; y < s.height; ++y)
+            for (int64_t x = 0; x < s.width; ++x)
+                for (int64_t c = 0; c < s.channels; ++c) prefiltered.at(f, y, x, c) *= gain[static_cast<size_t>(c)];
+    }, ProgressSpan{none, 0, 1, "light"});
 }
 
 double blend_toward_prefilter(TimeTrust& trust, const Sequence& noisy, const Sequence& prefiltered, Sequence& result,

@@ -1,6 +1,8 @@
 // The prefilter with its probe, and the temporal result blended back towards it, on a shot in memory
 // (statfilter/time_trust.hpp; the streamed form is in the scheduler, frame by frame).
 #pragma once
+#include <vector>
+
 #include "pipeline/frame_stage_pool.hpp"
 #include "statfilter/progress.hpp"
 #include "statfilter/sequence.hpp"
@@ -13,6 +15,16 @@ void prefilter_and_probe(FrameStagePool& prefilter, const Sequence& noisy, Seque
                          int threads, const ProgressSpan& progress);
 // Every frame of result (the temporal filter's output on prefiltered) blended back towards
 // prefiltered where noisy does not support the change; returns the mean share kept.
+// A single-frame denoiser does not keep the light (OIDN brightens 4-spp frames by ~0.9%); the noisy
+// render is unbiased, so the prefiltered shot is scaled to its light, channel by channel: gain[c] =
+// sum of noisy / sum of prefiltered over every frame (1 where either sum is not positive). sums:
+// [frame][channel], added in frame order so the gain does not depend on threads.
+std::vector<float> light_gain(const std::vector<std::vector<double>>& noisy, const std::vector<std::vector<double>>& prefiltered);
+// Each channel's sum over one contiguous frame (finite samples).
+std::vector<double> channel_sums(const float* frame, const Shape& shape);
+// The same on a shot in memory: prefiltered scaled in place.
+void keep_prefilter_light(const Sequence& noisy, Sequence& prefiltered, int threads);
+
 double blend_toward_prefilter(TimeTrust& trust, const Sequence& noisy, const Sequence& prefiltered,
                               Sequence& result, int threads);
 

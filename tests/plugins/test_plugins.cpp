@@ -217,6 +217,41 @@ TEST(Plugins, NotThreadSafeMeansOneCallAtATime) {
     EXPECT_EQ(calls_of("serial").frames - before.frames, 24);
 }
 
+// A prefilter that changes the light (this one doubles it) is scaled back to the noisy shot's light,
+// channel by channel, in memory and streamed (keep_mean); with keep_mean=0 its light stays.
+TEST(Plugins, APrefiltersLightIsScaledBackToTheInputs) {
+    Seq in = test_sequence();
+    const std::vector<float> samples = samples_of(in.get());
+    auto mean_of = [](const std::vector<float>& v) {
+        double sum = 0;
+        for (float x : v) sum += x;
+        return sum / static_cast<double>(v.size());
+    };
+    const double input_mean = mean_of(samples);
+    for (const char* keep : {"1", "0"}) {
+        Filt pca = create("pca");
+        ASSERT_SF_OK(sf_filter_set_string(pca.get(), "prefilter", "serial"));
+        ASSERT_SF_OK(sf_filter_set_string(pca.get(), "keep_mean", keep));
+        const double ratio = mean_of(run_filter(pca.get(), in.get())) / input_mean;
+        if (keep[0] == '1')
+            EXPECT_NEAR(ratio, 1.0, 1e-3);
+        else
+            EXPECT_NEAR(ratio, 2.0, 2e-3);
+    }
+    TempDir dir;
+    const std::string input = dir.file("in.####.exr"), output = dir.file("out.####.exr");
+    const sf_write_options w = write_options(SF_PIXEL_FLOAT);
+    ASSERT_SF_OK(sf_sequence_write(in.get(), input.c_str(), &w));
+    Filt pca = create("pca");
+    ASSERT_SF_OK(sf_filter_set_string(pca.get(), "prefilter", "serial"));
+    ASSERT_EQ(sf_filter_run(pca.get(), input.c_str(), nullptr, output.c_str(), &w, nullptr), SF_OK)
+        << sf_filter_last_error(pca.get());
+    sf_sequence raw = nullptr;
+    ASSERT_SF_OK(sf_sequence_read(output.c_str(), nullptr, &raw));
+    Seq out(raw);
+    EXPECT_NEAR(mean_of(samples_of(out.get())) / input_mean, 1.0, 1e-3);
+}
+
 TEST(Plugins, NameMustMatchTheFile) {
     sf_filter f = nullptr;
     expect_failure(sf_filter_create("misnamed", &f), SF_ERROR_UNSUPPORTED,
