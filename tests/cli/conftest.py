@@ -10,9 +10,9 @@ SAMPLE = Path(os.environ.get("STATFILTER_SAMPLE", Path(__file__).resolve().paren
 SHARED = Path(os.environ.get("STATFILTER_SHARED_DATA", "/nonexistent"))
 
 
-def run(*args, check_rc=0):
+def run(*args, check_rc=0, env=None):
     """Runs the CLI; asserts the exit code and returns the completed process."""
-    proc = subprocess.run([CLI, *map(str, args)], capture_output=True, text=True, timeout=300)
+    proc = subprocess.run([CLI, *map(str, args)], capture_output=True, text=True, timeout=300, env=env)
     if check_rc is not None:
         assert proc.returncode == check_rc, f"exit {proc.returncode}\nstdout:{proc.stdout}\nstderr:{proc.stderr}"
     return proc
