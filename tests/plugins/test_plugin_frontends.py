@@ -37,8 +37,10 @@ def test_python_plugin_parameters_and_prefilter(rng):
     with pytest.raises(statfilter.UnsupportedError, match="statfilter_badabi.so"):
         statfilter.Filter("badabi")
 
-    two_steps = statfilter.Filter("error-threshold")(scaled)
-    one_step = statfilter.Filter("error-threshold", prefilter="scale", prefilter_params="factor=3,offset=0.5")(noisy)
+    # the plain chain: the prefilter's light as it is (keep_mean=0), no trust blend
+    two_steps = statfilter.Filter("error-threshold", keep_mean=0)(scaled)
+    one_step = statfilter.Filter("error-threshold", prefilter="scale", prefilter_params="factor=3,offset=0.5",
+                                 keep_mean=0, prefilter_trust=0)(noisy)
     np.testing.assert_array_equal(one_step, two_steps)
     with pytest.raises(statfilter.InvalidArgumentError, match="temporal filter"):
         statfilter.Filter("pca", prefilter="pca")(noisy)
@@ -77,9 +79,10 @@ def test_cli_prefilter_option(tmp_path):
     for d in (a, b, c):
         d.mkdir()
     run_cli("denoise", noisy, a / "s.####.exr", "--method", "scale", "--factor", "2", "--float", "--frames", "1-6", "-q")
-    run_cli("denoise", a / "s.####.exr", b / "p.####.exr", "--method", "pca", "--float", "-q")
+    run_cli("denoise", a / "s.####.exr", b / "p.####.exr", "--method", "pca", "--keep-mean", "0", "--float", "-q")
     run_cli("denoise", noisy, c / "p.####.exr", "--method", "pca", "--prefilter", "scale",
-            "--prefilter-params", "factor=2", "--float", "--frames", "1-6", "-q")
+            "--prefilter-params", "factor=2", "--keep-mean", "0", "--prefilter-trust", "0", "--float", "--frames", "1-6",
+            "-q")
     first = statfilter.read_sequence(str(b / "p.####.exr"))
     second = statfilter.read_sequence(str(c / "p.####.exr"))
     np.testing.assert_array_equal(first, second)

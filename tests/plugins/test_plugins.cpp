@@ -370,10 +370,14 @@ TEST(Prefilter, EqualsRunningTheTwoFiltersOneAfterTheOther) {
         sf_strides st{};
         ASSERT_SF_OK(sf_sequence_data(scaled_seq.get(), &data, &st));
         std::copy(scaled.begin(), scaled.end(), data);
+        // The plain chain: the prefilter's light as it is (keep_mean=0), no trust blend.
         Filt plain = create(method);
+        ASSERT_SF_OK(sf_filter_set_string(plain.get(), "keep_mean", "0"));
         const std::vector<float> two_steps = run_filter(plain.get(), scaled_seq.get());
 
         Filt combined = create(method);
+        ASSERT_SF_OK(sf_filter_set_string(combined.get(), "keep_mean", "0"));
+        ASSERT_SF_OK(sf_filter_set_string(combined.get(), "prefilter_trust", "0"));
         ASSERT_SF_OK(sf_filter_set_string(combined.get(), "prefilter", "scale"));
         ASSERT_SF_OK(sf_filter_set_string(combined.get(), "prefilter_params", "factor=3,offset=0.25"));
         const std::vector<float> one_step = run_filter(combined.get(), in.get());
