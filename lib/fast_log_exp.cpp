@@ -125,8 +125,9 @@ inline __attribute__((always_inline)) void signed_log_transform(double* v, size_
 }  // namespace
 
 // Four lanes where the CPU has AVX2, two (SSE2) elsewhere, chosen when the library loads. No FMA in
-// either, so both give the same bits.
-#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__)
+// either, so both give the same bits. Not under ThreadSanitizer: the clones' resolver runs before
+// its runtime is up and crashes the process.
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && !defined(__SANITIZE_THREAD__)
 #define SF_VECTOR_CLONES __attribute__((target_clones("avx2", "default")))
 #else
 #define SF_VECTOR_CLONES
