@@ -127,7 +127,8 @@ void annotate(const Run& run, Results& results) {
 }
 
 void statistics_task(Run& run, const JsonValue& task) {
-    const auto [y0, y1] = range(task, "rows", "task");
+    const auto y0y1_range = range(task, "rows", "task");
+    const int64_t y0 = y0y1_range.first, y1 = y0y1_range.second;
     const int64_t tile = integer(task, "tile", "task");
     CountingSource counted(*run.context.source, run.pixels_read);
     const auto window = row_window(counted, y0, y1);
@@ -170,8 +171,10 @@ void reduce_task(Run& run, const JsonValue& task) {
 }
 
 void reconstruct_task(Run& run, const JsonValue& task) {
-    const auto [y0, y1] = range(task, "rows", "task");
-    const auto [r0, r1] = range(task, "read_rows", "task");
+    const auto y0y1_range = range(task, "rows", "task");
+    const int64_t y0 = y0y1_range.first, y1 = y0y1_range.second;
+    const auto r0r1_range = range(task, "read_rows", "task");
+    const int64_t r0 = r0r1_range.first, r1 = r0r1_range.second;
     const int64_t tile = integer(task, "tile", "task");
     const TileStatistics reduced = read_tile_statistics(run.work.reduced());
     run.bytes_read += tile_statistics_bytes(reduced);
@@ -229,7 +232,8 @@ std::unique_ptr<FrameSink> staging_sink(Run& run, const std::string& staging, co
 }
 
 void assemble_task(Run& run, const JsonValue& task, int64_t index) {
-    const auto [f0, f1] = range(task, "frames", "task");
+    const auto f0f1_range = range(task, "frames", "task");
+    const int64_t f0 = f0f1_range.first, f1 = f0f1_range.second;
     const Shape& s = run.context.source->shape();
     const auto attributes = frame_range_attributes(run.context.source->attributes(), f0, f1);
     std::vector<std::pair<int64_t, int64_t>> tiles;  // rows of each tile
@@ -278,7 +282,8 @@ RunOptions run_options(const Run& run) {
 }
 
 void frames_task(Run& run, const JsonValue& task, int64_t index) {
-    const auto [f0, f1] = range(task, "frames", "task");
+    const auto f0f1_range = range(task, "frames", "task");
+    const int64_t f0 = f0f1_range.first, f1 = f0f1_range.second;
     CountingSource counted(*run.context.source, run.pixels_read);
     const auto frames = frame_range(counted, f0, f1);
     const std::string staging = staging_dir(run.plan, index);
