@@ -113,7 +113,6 @@ protected:
         MotionMaps maps;
         maps.alpha = compute_alpha(series, basis, params(), {progress, 0.2, 0.1, "motion"});
         // Where things move: alpha, the temporal-change test and the renderer's vectors when given.
-        const Sequence* vectors = passes.vectors;
         const auto weight = moving_weight(input, *maps.alpha, passes, params());
         const double moving = mean_of_map(*weight);
         mutable_results().set("motion_fraction", moving);

@@ -68,6 +68,7 @@ HybridStageOptions hybrid_stage_options(const ParamSet& p) {
     // Linear samples: a weighted mean of unbiased samples is unbiased, where a mean of their logs
     // comes back darker (Jensen); the weights still judge agreement in log units.
     o.mc.transform = ValueTransform::None;
+    o.single_frame = diffusion_options(p);
     return o;
 }
 
@@ -98,15 +99,17 @@ double HybridStage::analysis_bytes(const Shape& s) const {
 }
 
 double HybridStage::maps_bytes(const Shape& s) {
-    // After the analysis: alpha (a result), the moving weight and its grown copy (float), the moving
-    // mask and the moving pixels' indices (at most every pixel).
-    return static_cast<double>(s.pixels()) * (3 * sizeof(float) + 1 + sizeof(int64_t));
+    // After the analysis: alpha (a result), the moving weight, its grown copy and the own first pass'
+    // weight (float), the moving mask and the indices of the moving pixels and of those with their own
+    // first pass (at most every pixel).
+    return static_cast<double>(s.pixels()) * (4 * sizeof(float) + 1 + 2 * sizeof(int64_t));
 }
 
 double HybridStage::first_pass_bytes(const Shape& s, int threads) const {
-    // Per thread while I_T is rebuilt: the first pass' copy of the frame and the diffusion's working set.
+    // Per thread while I_T is rebuilt: the first pass' copy of the frame, the noisy frame diffused on
+    // its own, and the diffusion's working set.
     const double frame = static_cast<double>(s.pixels()) * s.channels * sizeof(float);
-    return threads * (frame + diffusion_working_bytes(s.pixels(), s.channels));
+    return threads * (2 * frame + diffusion_working_bytes(s.pixels(), s.channels));
 }
 
 double HybridStage::window_bytes(const Shape& s, int threads) const {
@@ -212,7 +215,14 @@ void HybridStage::run(const FrameSource& source, const FrameConsumer& consume, c
     // Where things move: 1 - alpha, raised where the temporal-change test says so.
     auto weight = std::make_shared<Sequence>(alpha->shape());
     for (int64_t p = 0; p < P; ++p) weight->at(0, p / W, p % W, 0) = 1.0f - alpha->at(0, p / W, p % W, 0);
-    if (test_change) combine_max(*weight, *change.map());
+    // Where the change test saw what alpha did not, the frame's own diffusion is the first pass.
+    std::vector<float> own_weight;
+    if (test_change) {
+        own_weight.resize(static_cast<size_t>(P));
+        for (int64_t p = 0; p < P; ++p)
+            own_weight[static_cast<size_t>(p)] = change.map()->at(0, p / W, p % W, 0) * alpha->at(0, p / W, p % W, 0);
+        combine_max(*weight, *change.map());
+    }
     alpha_analysis.reset();  // their per-pixel sums are not needed past here (maps_bytes)
     change_test.reset();
     const double moving_share = mean_of_map(*weight);
@@ -245,16 +255,19 @@ void HybridStage::run(const FrameSource& source, const FrameConsumer& consume, c
     for (int64_t p = 0; p < P; ++p) grown.at<float>(static_cast<int>(p)) = weight->at(0, p / W, p % W, 0);
     if (options_.mc_dilate > 0)
         cv::dilate(grown, grown, cv::Mat::ones(2 * options_.mc_dilate + 1, 2 * options_.mc_dilate + 1, CV_8U));
-    std::vector<int64_t> pixels;
+    std::vector<int64_t> pixels, own_pixels;
     std::vector<uint8_t> moving(static_cast<size_t>(P), 0);
     for (int64_t p = 0; p < P; ++p)
         if (grown.at<float>(static_cast<int>(p)) > 0.0f) {
             moving[static_cast<size_t>(p)] = 1;
             pixels.push_back(p);
+            if (!own_weight.empty() && own_weight[static_cast<size_t>(p)] > 0.0f) own_pixels.push_back(p);
         }
 
-    // I_T and the first pass it is checked against (I_T with the light diffusion pass), frame by
-    // frame, parked; the first pass' sums as they come.
+    // I_T and the first pass it is checked against (I_T with the light diffusion pass; the frame's
+    // own diffusion where I_T ghosts: the flow then follows the object, and a pixel with nothing to
+    // average is no worse than a single-frame filter), frame by frame, parked; the first pass' sums
+    // as they come.
     ScratchFrames temporal_frames(s, source.attributes()), first_pass(s, source.attributes());
     std::vector<double> sums(static_cast<size_t>(F)), still_levels(static_cast<size_t>(F));
     const Progress rebuild = part_of(progress, 0.3, 0.2);
@@ -266,6 +279,18 @@ void HybridStage::run(const FrameSource& source, const FrameConsumer& consume, c
         temporal_frames.write_frame(t, pixels);
         std::vector<float> estimate(pixels, pixels + frame_samples);
         refine.apply(t, estimate.data(), s, source.attributes());
+        if (!own_pixels.empty()) {
+            std::vector<float> own(static_cast<size_t>(frame_samples));
+            source.read_rows(t, 0, H, own.data());
+            diffuse_frame(own.data(), W, H, C, options_.single_frame);
+            for (const int64_t p : own_pixels) {
+                const float w = own_weight[static_cast<size_t>(p)];
+                for (int64_t c = 0; c < C; ++c) {
+                    float& e = estimate[static_cast<size_t>(p * C + c)];
+                    e += w * (own[static_cast<size_t>(p * C + c)] - e);
+                }
+            }
+        }
         sums[static_cast<size_t>(t)] = positive_sum(estimate.data(), frame_samples);
         double level = 0;
         for (int64_t p = 0; p < P; ++p)
@@ -386,6 +411,7 @@ void HybridStage::run(const FrameSource& source, const FrameConsumer& consume, c
     results.set("beta_source", "none (motion compensation)");
     results.set("motion_compensation", "optical flow on the first pass");
     results.set("aligned_fraction", static_cast<double>(pixels.size()) / static_cast<double>(P));
+    results.set("own_first_pass_fraction", static_cast<double>(own_pixels.size()) / static_cast<double>(P));
     results.set("aligned_frames", pixels.empty() ? 0.0 : weights / static_cast<double>(F * static_cast<int64_t>(pixels.size())));
     results.set("moving_basis_fraction", 0.0);
     results.set("diffusion_fraction", 0.0);

@@ -4,8 +4,10 @@
 //      test's noise and scores (bands read with the test's 4-row halo);
 //   2. nothing moves: global PCA (automatic rank) rebuilt from the same Gram, frame by frame;
 //   3. else the temporal filter I_T rebuilt frame by frame, each frame's first pass (I_T with the
-//      light diffusion pass) made at once; both parked on disk with the first pass' statistics
-//      (its mean, its light level where nothing moves, the flow images' scale);
+//      light diffusion pass) made at once; where the change test saw motion that alpha did not (an
+//      object crossing a pixel in a frame or two, which no temporal basis follows: I_T ghosts
+//      there), the first pass is the frame's own diffusion instead; both parked on disk with the
+//      first pass' statistics (its mean, its light level where nothing moves, the flow images' scale);
 //   4. a sliding window of frames t - h .. t + h: frame t's moving pixels averaged along the optical
 //      flow (statfilter/aligned_frame.hpp), blended into I_T by the moving weight, handed on.
 // Memory: a band, the temporal model and per-pixel maps, then the window's frames; never the shot.
@@ -16,6 +18,7 @@
 
 #include "pipeline/low_rank_stage.hpp"
 #include "pipeline/stage.hpp"
+#include "statfilter/anisotropic_diffusion.hpp"
 #include "statfilter/motion.hpp"
 #include "statfilter/motion_compensation.hpp"
 
@@ -30,6 +33,7 @@ struct HybridStageOptions {
     double still_fraction = 0.01;
     int mc_dilate = 4;
     AlignedAverageOptions mc;     // frame_gain and vectors are the stage's
+    DiffusionOptions single_frame;  // the frame's own diffusion: the first pass where I_T ghosts
     bool refine_after = false;    // the light diffusion pass on every output frame (the presets')
 };
 
@@ -45,7 +49,8 @@ public:
     Footprint footprint() const override;
     double min_bytes(const Shape& shape, int threads) const override;
     // Results as the hybrid's: motion_fraction, the image alpha, beta_source, motion_compensation,
-    // aligned_fraction, aligned_frames, temporal_rank or temporal_mean_rank, bands.
+    // aligned_fraction, aligned_frames, own_first_pass_fraction, temporal_rank or temporal_mean_rank,
+    // bands.
     void run(const FrameSource& source, const FrameConsumer& consume, const StageContext& context,
              Results& results) override;
 
