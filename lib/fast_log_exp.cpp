@@ -98,28 +98,39 @@ inline double exp_neg_nonneg(double y) {
 
 namespace {
 
-// In blocks: a loop the compiler vectorises, then the library for the rare sample out of range
-// (large, infinite, NaN), its input still at hand.
-template <bool Forward>
-inline __attribute__((always_inline)) void signed_log_transform(double* v, size_t n, double factor) {
+// In blocks: a loop the compiler vectorises (fast, which takes any input and is right inside its
+// range), then the library for the rare sample outside it (large, infinite, NaN), its input still at
+// hand.
+template <class Fast, class Outside, class Library>
+inline __attribute__((always_inline)) void in_blocks(double* v, size_t n, Fast fast, Outside outside, Library library) {
     constexpr size_t block = 256;
-    constexpr double limit = Forward ? 1e300 : 700.0;
     double out[block];
     for (size_t i0 = 0; i0 < n; i0 += block) {
         const size_t m = n - i0 < block ? n - i0 : block;
         const double* in = v + i0;
-        for (size_t i = 0; i < m; ++i) {
-            const double a = Forward ? std::fabs(in[i]) * factor : std::fabs(in[i]);
-            const double inside = a <= limit ? a : 0.0;
-            const double r = Forward ? log1p_nonneg(inside) : factor * expm1_nonneg(inside);
-            out[i] = std::copysign(r, in[i]);
-        }
-        for (size_t i = 0; i < m; ++i) {
-            const double a = Forward ? std::fabs(in[i]) * factor : std::fabs(in[i]);
-            if (!(a <= limit)) out[i] = std::copysign(Forward ? std::log1p(a) : factor * std::expm1(a), in[i]);
-        }
+        for (size_t i = 0; i < m; ++i) out[i] = fast(in[i]);
+        for (size_t i = 0; i < m; ++i)
+            if (outside(in[i])) out[i] = library(in[i]);
         std::memcpy(v + i0, out, m * sizeof(double));
     }
+}
+
+template <bool Forward>
+inline __attribute__((always_inline)) void signed_log_transform(double* v, size_t n, double factor) {
+    constexpr double limit = Forward ? 1e300 : 700.0;
+    const auto magnitude = [factor](double x) { return Forward ? std::fabs(x) * factor : std::fabs(x); };
+    in_blocks(
+        v, n,
+        [&](double x) {
+            const double a = magnitude(x);
+            const double inside = a <= limit ? a : 0.0;
+            return std::copysign(Forward ? log1p_nonneg(inside) : factor * expm1_nonneg(inside), x);
+        },
+        [&](double x) { return !(magnitude(x) <= limit); },
+        [&](double x) {
+            const double a = magnitude(x);
+            return std::copysign(Forward ? std::log1p(a) : factor * std::expm1(a), x);
+        });
 }
 
 }  // namespace
@@ -135,19 +146,11 @@ inline __attribute__((always_inline)) void signed_log_transform(double* v, size_
 SF_VECTOR_CLONES void signed_log1p(double* v, size_t n, double inv) { signed_log_transform<true>(v, n, inv); }
 SF_VECTOR_CLONES void signed_expm1(double* v, size_t n, double scale) { signed_log_transform<false>(v, n, scale); }
 SF_VECTOR_CLONES void exp_of_negative(double* v, size_t n) {
-    constexpr size_t block = 256;
-    double out[block];
-    for (size_t i0 = 0; i0 < n; i0 += block) {
-        const size_t m = n - i0 < block ? n - i0 : block;
-        const double* in = v + i0;
-        for (size_t i = 0; i < m; ++i) {
-            const double a = in[i];
-            out[i] = exp_neg_nonneg(a >= 0.0 && a <= 700.0 ? a : 0.0);
-        }
-        for (size_t i = 0; i < m; ++i)  // beyond 700, negative or NaN: the library
-            if (!(in[i] >= 0.0 && in[i] <= 700.0)) out[i] = std::exp(-in[i]);
-        std::memcpy(v + i0, out, m * sizeof(double));
-    }
+    const auto inside = [](double a) { return a >= 0.0 && a <= 700.0; };
+    in_blocks(
+        v, n, [&](double a) { return exp_neg_nonneg(inside(a) ? a : 0.0); },
+        [&](double a) { return !inside(a); },  // beyond 700, negative or NaN: the library
+        [](double a) { return std::exp(-a); });
 }
 
 }  // namespace fast_math
