@@ -44,4 +44,11 @@ WriteOptions write_options_from(const sf_write_options* options) {
     return wo;
 }
 
+void check_run_options(const sf_run_options& run, const char* memory_zero, const char* threads_zero) {
+    if (run.memory < 0)
+        throw Error(Status::InvalidArgument, std::string("run.memory must be >= 0 bytes (0 = ") + memory_zero + ")");
+    if (run.threads < 0)
+        throw Error(Status::InvalidArgument, std::string("run.threads must be >= 0 (0 = ") + threads_zero + ")");
+}
+
 }  // namespace statfilter::capi

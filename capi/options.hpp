@@ -44,5 +44,8 @@ inline std::string text_or_empty(const char* s) { return s ? std::string(s) : st
 
 ReadOptions read_options_from(const sf_read_options* options);
 WriteOptions write_options_from(const sf_write_options* options);
+// run.memory and run.threads, neither negative; the message says what their 0 stands for (a run's
+// default and every core, or what the plan says).
+void check_run_options(const sf_run_options& run, const char* memory_zero, const char* threads_zero);
 
 }  // namespace statfilter::capi

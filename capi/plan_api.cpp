@@ -134,8 +134,7 @@ sf_status sf_plan_write(sf_filter filter, const char* input_pattern, const sf_re
         const sf_plan_options p = read_versioned(plan, sf_plan_options_init);
         const sf_read_options ro_c = read_versioned(read, sf_read_options_init);
         const sf_write_options wo_c = read_versioned(write, sf_write_options_init);
-        if (r.memory < 0) throw Error(Status::InvalidArgument, "run.memory must be >= 0 bytes (0 = the default)");
-        if (r.threads < 0) throw Error(Status::InvalidArgument, "run.threads must be >= 0 (0 = every core)");
+        check_run_options(r, "the default", "every core");
         if (r.overwrite)
             throw Error(Status::InvalidArgument, "a plan cannot overwrite its input: its tasks read the input while others write");
         const std::string in = absolute(require_string(input_pattern, "input_pattern"));
@@ -178,8 +177,7 @@ sf_status sf_plan_run_task(const char* plan_path, int64_t task, const sf_run_opt
     return guarded([&] {
         const JsonValue plan = read_plan(require_string(plan_path, "plan_path"));
         const sf_run_options r = read_versioned(run, sf_run_options_init);
-        if (r.memory < 0) throw Error(Status::InvalidArgument, "run.memory must be >= 0 bytes (0 = the plan's)");
-        if (r.threads < 0) throw Error(Status::InvalidArgument, "run.threads must be >= 0 (0 = the plan's)");
+        check_run_options(r, "the plan's", "the plan's");
         const auto fe = front_end_from(plan);
         auto filter = create_filter(fe->filter);
         for (const auto& [name, value] : fe->parameters) filter->params().set_string(name, value);

@@ -27,8 +27,7 @@ sf_status sf_filter_run(sf_filter filter, const char* input_pattern, const sf_re
     return guarded([&] {
         Filter& f = *require(filter, "filter").filter;
         const sf_run_options r = read_versioned(run, sf_run_options_init);
-        if (r.memory < 0) throw Error(Status::InvalidArgument, "run.memory must be >= 0 bytes (0 = the default)");
-        if (r.threads < 0) throw Error(Status::InvalidArgument, "run.threads must be >= 0 (0 = every core)");
+        check_run_options(r, "the default", "every core");
         const std::string in = require_string(input_pattern, "input_pattern");
         const std::string out = require_string(output_pattern, "output_pattern");
         f.check();  // the filter's configuration first: cheaper than opening every frame

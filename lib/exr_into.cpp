@@ -124,8 +124,21 @@ void store(ChannelBuffer& buffer, size_t i, float v, bool clamp_half, const std:
     }
 }
 
+// All of a one-level part through the frame buffer set on it: every tile, or every scanline.
+void read_all(Imf::TiledInputPart& part) { part.readTiles(0, part.numXTiles(0) - 1, 0, part.numYTiles(0) - 1); }
+void write_all(Imf::TiledOutputPart& part) { part.writeTiles(0, part.numXTiles(0) - 1, 0, part.numYTiles(0) - 1); }
+void read_all(Imf::InputPart& part) {
+    const Imath::Box2i dw = part.header().dataWindow();
+    part.readPixels(dw.min.y, dw.max.y);
+}
+void write_all(Imf::OutputPart& part) {
+    const Imath::Box2i dw = part.header().dataWindow();
+    part.writePixels(dw.max.y - dw.min.y + 1);
+}
+
 // Reads every channel of part p, puts the frame's channels in, writes it: the other channels of the
-// part stay as they were.
+// part stay as they were. The parts are OpenEXR's tiled or scanline ones, as the part is stored.
+template <class InputPart, class OutputPart>
 void rewrite_part(Imf::MultiPartInputFile& in, Imf::MultiPartOutputFile& out, int p, const std::vector<size_t>& mine,
                   const IntoFrame& frame, bool clamp_half, const std::string& destination) {
     const Imf::Header& h = in.header(p);
@@ -139,15 +152,10 @@ void rewrite_part(Imf::MultiPartInputFile& in, Imf::MultiPartOutputFile& out, in
         b.data.resize(pixels * b.size());
         fb.insert(b.name, Imf::Slice::Make(b.type, b.data.data(), dw, b.size(), b.size() * static_cast<size_t>(width)));
     }
-    const bool tiled = part_type(h) == Imf::TILEDIMAGE;
-    if (tiled) {
-        Imf::TiledInputPart from(in, p);
+    {
+        InputPart from(in, p);
         from.setFrameBuffer(fb);
-        from.readTiles(0, from.numXTiles(0) - 1, 0, from.numYTiles(0) - 1);
-    } else {
-        Imf::InputPart from(in, p);
-        from.setFrameBuffer(fb);
-        from.readPixels(dw.min.y, dw.max.y);
+        read_all(from);
     }
 
     const PixelWindow& w = frame.window;
@@ -164,15 +172,9 @@ void rewrite_part(Imf::MultiPartInputFile& in, Imf::MultiPartOutputFile& out, in
             }
     }
 
-    if (tiled) {
-        Imf::TiledOutputPart to(out, p);
-        to.setFrameBuffer(fb);
-        to.writeTiles(0, to.numXTiles(0) - 1, 0, to.numYTiles(0) - 1);
-    } else {
-        Imf::OutputPart to(out, p);
-        to.setFrameBuffer(fb);
-        to.writePixels(static_cast<int>(height));
-    }
+    OutputPart to(out, p);
+    to.setFrameBuffer(fb);
+    write_all(to);
 }
 
 template <class Work>
@@ -212,10 +214,13 @@ void write_into_copy(const std::string& source, const std::string& destination, 
         }
         Imf::MultiPartOutputFile out(destination.c_str(), headers.data(), parts);
         for (int p = 0; p < parts; ++p) {
-            if (by_part[static_cast<size_t>(p)].empty())
+            const std::vector<size_t>& mine = by_part[static_cast<size_t>(p)];
+            if (mine.empty())
                 copy_part(in, out, p);
+            else if (part_type(in.header(p)) == Imf::TILEDIMAGE)
+                rewrite_part<Imf::TiledInputPart, Imf::TiledOutputPart>(in, out, p, mine, frame, clamp_half, destination);
             else
-                rewrite_part(in, out, p, by_part[static_cast<size_t>(p)], frame, clamp_half, destination);
+                rewrite_part<Imf::InputPart, Imf::OutputPart>(in, out, p, mine, frame, clamp_half, destination);
         }
     });
 }

@@ -47,13 +47,15 @@ inline double log1p_nonneg(double x) {
     return s * (hfsq + t1 + t2) + (k * ln2_lo + c) - hfsq + f + k * ln2_hi;
 }
 
-// expm1(y) for 0 <= y <= 700: y = k ln2 + r, |r| <= ln2 / 2, expm1(r) by its Taylor series to r^13
-// (truncation below 1e-17 relative), then 2^k expm1(r) + (2^k - 1), which cancels at most a bit.
-inline double expm1_nonneg(double y) {
+// The reduction of expm1 and exp: y = k ln2 + r, |r| <= ln2 / 2, for |y| <= 700. Returns expm1(r) by
+// its Taylor series to r^13 (truncation below 1e-17 relative); t holds k rounded to nearest in its low
+// mantissa bits, for two_to_k.
+constexpr double kShifter = 0x1.8p52;
+inline double expm1_reduced(double y, double& t) {
     constexpr double inv_ln2 = 1.44269504088896338700e+00, ln2_hi = 6.93147180369123816490e-01,
-                     ln2_lo = 1.90821492927058770002e-10, shifter = 0x1.8p52;
-    const double t = y * inv_ln2 + shifter;  // k rounded to nearest, in t's low mantissa bits
-    const double kd = t - shifter;
+                     ln2_lo = 1.90821492927058770002e-10;
+    t = y * inv_ln2 + kShifter;
+    const double kd = t - kShifter;
     const double r = (y - kd * ln2_hi) - kd * ln2_lo;
     double p = 1.0 / 6227020800.0;  // 1/13!
     p = 1.0 / 479001600.0 + r * p;
@@ -67,59 +69,60 @@ inline double expm1_nonneg(double y) {
     p = 1.0 / 24.0 + r * p;
     p = 1.0 / 6.0 + r * p;
     p = 0.5 + r * p;
-    const double em = r + r * (r * p);
-    const double two_k = from_bits((bits(t) - bits(shifter) + 1023) << 52);
+    return r + r * (r * p);
+}
+inline double two_to_k(double t) { return from_bits((bits(t) - bits(kShifter) + 1023) << 52); }
+
+// expm1(y) for 0 <= y <= 700: 2^k expm1(r) + (2^k - 1), which cancels at most a bit.
+inline double expm1_nonneg(double y) {
+    double t;
+    const double em = expm1_reduced(y, t);
+    const double two_k = two_to_k(t);
     return two_k * em + (two_k - 1.0);
 }
 
-// exp(-y) for 0 <= y <= 700, as expm1_nonneg's reduction with k <= 0: 2^k (1 + expm1(r)).
+// exp(-y) for 0 <= y <= 700, the same reduction with k <= 0: 2^k (1 + expm1(r)).
 inline double exp_neg_nonneg(double y) {
-    constexpr double inv_ln2 = 1.44269504088896338700e+00, ln2_hi = 6.93147180369123816490e-01,
-                     ln2_lo = 1.90821492927058770002e-10, shifter = 0x1.8p52;
-    const double x = -y;
-    const double t = x * inv_ln2 + shifter;
-    const double kd = t - shifter;
-    const double r = (x - kd * ln2_hi) - kd * ln2_lo;
-    double p = 1.0 / 6227020800.0;
-    p = 1.0 / 479001600.0 + r * p;
-    p = 1.0 / 39916800.0 + r * p;
-    p = 1.0 / 3628800.0 + r * p;
-    p = 1.0 / 362880.0 + r * p;
-    p = 1.0 / 40320.0 + r * p;
-    p = 1.0 / 5040.0 + r * p;
-    p = 1.0 / 720.0 + r * p;
-    p = 1.0 / 120.0 + r * p;
-    p = 1.0 / 24.0 + r * p;
-    p = 1.0 / 6.0 + r * p;
-    p = 0.5 + r * p;
-    const double e = 1.0 + (r + r * (r * p));
-    return from_bits((bits(t) - bits(shifter) + 1023) << 52) * e;  // k >= -1010: a normal power of two
+    double t;
+    const double e = 1.0 + expm1_reduced(-y, t);
+    return two_to_k(t) * e;  // k >= -1010: a normal power of two
 }
 
 namespace {
 
-// In blocks: a loop the compiler vectorises, then the library for the rare sample out of range
-// (large, infinite, NaN), its input still at hand.
-template <bool Forward>
-inline __attribute__((always_inline)) void signed_log_transform(double* v, size_t n, double factor) {
+// In blocks: a loop the compiler vectorises (fast, which takes any input and is right inside its
+// range), then the library for the rare sample outside it (large, infinite, NaN), its input still at
+// hand.
+template <class Fast, class Outside, class Library>
+inline __attribute__((always_inline)) void in_blocks(double* v, size_t n, Fast fast, Outside outside, Library library) {
     constexpr size_t block = 256;
-    constexpr double limit = Forward ? 1e300 : 700.0;
     double out[block];
     for (size_t i0 = 0; i0 < n; i0 += block) {
         const size_t m = n - i0 < block ? n - i0 : block;
         const double* in = v + i0;
-        for (size_t i = 0; i < m; ++i) {
-            const double a = Forward ? std::fabs(in[i]) * factor : std::fabs(in[i]);
-            const double inside = a <= limit ? a : 0.0;
-            const double r = Forward ? log1p_nonneg(inside) : factor * expm1_nonneg(inside);
-            out[i] = std::copysign(r, in[i]);
-        }
-        for (size_t i = 0; i < m; ++i) {
-            const double a = Forward ? std::fabs(in[i]) * factor : std::fabs(in[i]);
-            if (!(a <= limit)) out[i] = std::copysign(Forward ? std::log1p(a) : factor * std::expm1(a), in[i]);
-        }
+        for (size_t i = 0; i < m; ++i) out[i] = fast(in[i]);
+        for (size_t i = 0; i < m; ++i)
+            if (outside(in[i])) out[i] = library(in[i]);
         std::memcpy(v + i0, out, m * sizeof(double));
     }
+}
+
+template <bool Forward>
+inline __attribute__((always_inline)) void signed_log_transform(double* v, size_t n, double factor) {
+    constexpr double limit = Forward ? 1e300 : 700.0;
+    const auto magnitude = [factor](double x) { return Forward ? std::fabs(x) * factor : std::fabs(x); };
+    in_blocks(
+        v, n,
+        [&](double x) {
+            const double a = magnitude(x);
+            const double inside = a <= limit ? a : 0.0;
+            return std::copysign(Forward ? log1p_nonneg(inside) : factor * expm1_nonneg(inside), x);
+        },
+        [&](double x) { return !(magnitude(x) <= limit); },
+        [&](double x) {
+            const double a = magnitude(x);
+            return std::copysign(Forward ? std::log1p(a) : factor * std::expm1(a), x);
+        });
 }
 
 }  // namespace
@@ -135,19 +138,11 @@ inline __attribute__((always_inline)) void signed_log_transform(double* v, size_
 SF_VECTOR_CLONES void signed_log1p(double* v, size_t n, double inv) { signed_log_transform<true>(v, n, inv); }
 SF_VECTOR_CLONES void signed_expm1(double* v, size_t n, double scale) { signed_log_transform<false>(v, n, scale); }
 SF_VECTOR_CLONES void exp_of_negative(double* v, size_t n) {
-    constexpr size_t block = 256;
-    double out[block];
-    for (size_t i0 = 0; i0 < n; i0 += block) {
-        const size_t m = n - i0 < block ? n - i0 : block;
-        const double* in = v + i0;
-        for (size_t i = 0; i < m; ++i) {
-            const double a = in[i];
-            out[i] = exp_neg_nonneg(a >= 0.0 && a <= 700.0 ? a : 0.0);
-        }
-        for (size_t i = 0; i < m; ++i)  // beyond 700, negative or NaN: the library
-            if (!(in[i] >= 0.0 && in[i] <= 700.0)) out[i] = std::exp(-in[i]);
-        std::memcpy(v + i0, out, m * sizeof(double));
-    }
+    const auto inside = [](double a) { return a >= 0.0 && a <= 700.0; };
+    in_blocks(
+        v, n, [&](double a) { return exp_neg_nonneg(inside(a) ? a : 0.0); },
+        [&](double a) { return !inside(a); },  // beyond 700, negative or NaN: the library
+        [](double a) { return std::exp(-a); });
 }
 
 }  // namespace fast_math

@@ -26,6 +26,17 @@ void between_centres(int64_t i, int64_t tiles, int64_t& first, double& t) {
     t = pos - static_cast<double>(first);
 }
 
+// Every sample of a frame in memory order, with the tile it lies in: visit(tile, sample).
+template <class Visit>
+void each_sample_by_tile(const Shape& shape, int64_t tiles_x, Visit&& visit) {
+    const int64_t W = shape.width, H = shape.height, C = shape.channels;
+    for (int64_t py = 0; py < H; ++py)
+        for (int64_t px = 0; px < W; ++px) {
+            const auto t = static_cast<size_t>((py / TimeTrust::kTile) * tiles_x + px / TimeTrust::kTile);
+            for (int64_t c = 0; c < C; ++c) visit(t, (py * W + px) * C + c);
+        }
+}
+
 }  // namespace
 
 TimeTrust::TimeTrust(const Shape& shape)
@@ -34,50 +45,36 @@ TimeTrust::TimeTrust(const Shape& shape)
       num_(static_cast<size_t>(shape.frames)), den_(static_cast<size_t>(shape.frames)) {}
 
 void TimeTrust::probe(int64_t f, const float* x, const float* y, const std::function<void(float*)>& prefilter) {
-    const int64_t W = shape_.width, H = shape_.height, C = shape_.channels;
-    const int64_t samples = W * H * C;
+    const int64_t samples = shape_.width * shape_.height * shape_.channels;
     // Each tile's noise variance sigma^2, from the prefilter's residual x - y (the truth is near y).
     std::vector<double> sigma2(static_cast<size_t>(tiles_x_ * tiles_y_), 0.0), count(sigma2.size(), 0.0);
-    for (int64_t py = 0; py < H; ++py)
-        for (int64_t px = 0; px < W; ++px) {
-            const size_t t = static_cast<size_t>((py / kTile) * tiles_x_ + px / kTile);
-            for (int64_t c = 0; c < C; ++c) {
-                const int64_t i = (py * W + px) * C + c;
-                const double r = static_cast<double>(x[i]) - y[i];
-                if (std::isfinite(r)) {
-                    sigma2[t] += r * r;
-                    count[t] += 1;
-                }
-            }
+    each_sample_by_tile(shape_, tiles_x_, [&](size_t t, int64_t i) {
+        const double r = static_cast<double>(x[i]) - y[i];
+        if (std::isfinite(r)) {
+            sigma2[t] += r * r;
+            count[t] += 1;
         }
+    });
     for (size_t t = 0; t < sigma2.size(); ++t) sigma2[t] = count[t] > 0 ? sigma2[t] / count[t] : 0.0;
     // The probe: x + eps b, eps a twentieth of the tile's noise (scales with the data), b a sign.
+    std::vector<double> eps(sigma2.size());
+    for (size_t t = 0; t < sigma2.size(); ++t) eps[t] = 0.05 * std::sqrt(sigma2[t]);
     std::vector<float> perturbed(x, x + samples), step(static_cast<size_t>(samples), 0.0f);
-    for (int64_t py = 0; py < H; ++py)
-        for (int64_t px = 0; px < W; ++px) {
-            const double eps = 0.05 * std::sqrt(sigma2[static_cast<size_t>((py / kTile) * tiles_x_ + px / kTile)]);
-            for (int64_t c = 0; c < C; ++c) {
-                const int64_t i = (py * W + px) * C + c;
-                float v = x[i] + static_cast<float>(eps) * random_sign(f, i);
-                if (x[i] >= 0 && v < 0) v = 0;  // renders are non-negative: so is what the prefilter sees
-                step[static_cast<size_t>(i)] = v - x[i];
-                perturbed[static_cast<size_t>(i)] = v;
-            }
-        }
+    each_sample_by_tile(shape_, tiles_x_, [&](size_t t, int64_t i) {
+        float v = x[i] + static_cast<float>(eps[t]) * random_sign(f, i);
+        if (x[i] >= 0 && v < 0) v = 0;  // renders are non-negative: so is what the prefilter sees
+        step[static_cast<size_t>(i)] = v - x[i];
+        perturbed[static_cast<size_t>(i)] = v;
+    });
     prefilter(perturbed.data());
     std::vector<double> stein(sigma2.size(), 0.0);
-    for (int64_t py = 0; py < H; ++py)
-        for (int64_t px = 0; px < W; ++px) {
-            const size_t t = static_cast<size_t>((py / kTile) * tiles_x_ + px / kTile);
-            for (int64_t c = 0; c < C; ++c) {
-                const int64_t i = (py * W + px) * C + c;
-                const double s = step[static_cast<size_t>(i)];
-                if (s == 0) continue;
-                // sigma^2 dy_i/dx_i, estimated along the sign pattern: sigma^2 b (y' - y) / eps
-                const double d = sigma2[t] * (static_cast<double>(perturbed[static_cast<size_t>(i)]) - y[i]) / s;
-                if (std::isfinite(d)) stein[t] += d;
-            }
-        }
+    each_sample_by_tile(shape_, tiles_x_, [&](size_t t, int64_t i) {
+        const double s = step[static_cast<size_t>(i)];
+        if (s == 0) return;
+        // sigma^2 dy_i/dx_i, estimated along the sign pattern: sigma^2 b (y' - y) / eps
+        const double d = sigma2[t] * (static_cast<double>(perturbed[static_cast<size_t>(i)]) - y[i]) / s;
+        if (std::isfinite(d)) stein[t] += d;
+    });
     stein_[static_cast<size_t>(f)] = std::move(stein);
     sigma2_[static_cast<size_t>(f)] = std::move(sigma2);
 }
@@ -85,20 +82,14 @@ void TimeTrust::probe(int64_t f, const float* x, const float* y, const std::func
 void TimeTrust::measure(int64_t f, const float* x, const float* y, const float* z) {
     const std::vector<double>& stein = stein_[static_cast<size_t>(f)];
     if (stein.empty()) throw Error(Status::Internal, "time trust: frame " + std::to_string(f) + " was not probed");
-    const int64_t W = shape_.width, H = shape_.height, C = shape_.channels;
     std::vector<double> num(stein), den(stein.size(), 0.0);
-    for (int64_t py = 0; py < H; ++py)
-        for (int64_t px = 0; px < W; ++px) {
-            const size_t t = static_cast<size_t>((py / kTile) * tiles_x_ + px / kTile);
-            for (int64_t c = 0; c < C; ++c) {
-                const int64_t i = (py * W + px) * C + c;
-                const double d = static_cast<double>(y[i]) - z[i];
-                const double e = static_cast<double>(y[i]) - x[i];
-                if (!std::isfinite(d) || !std::isfinite(e)) continue;
-                num[t] += e * d;
-                den[t] += d * d;
-            }
-        }
+    each_sample_by_tile(shape_, tiles_x_, [&](size_t t, int64_t i) {
+        const double d = static_cast<double>(y[i]) - z[i];
+        const double e = static_cast<double>(y[i]) - x[i];
+        if (!std::isfinite(d) || !std::isfinite(e)) return;
+        num[t] += e * d;
+        den[t] += d * d;
+    });
     num_[static_cast<size_t>(f)] = std::move(num);
     den_[static_cast<size_t>(f)] = std::move(den);
 }

@@ -10,7 +10,6 @@ task requeue reruns a task that died (tasks are idempotent).
 Needs `deadlinecommand` on PATH; --dry-run writes and prints the job files only. The plan, its input,
 output and work directory must be on storage every worker sees.
 """
-import argparse
 import os
 import re
 import subprocess
@@ -19,16 +18,11 @@ import tempfile
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from plan_phases import phases  # noqa: E402
+from submit_arguments import parse_submit_arguments  # noqa: E402
 
 
 def main():
-    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("plan")
-    ap.add_argument("--pool", default="none")
-    ap.add_argument("--statfilter", default="statfilter", help="the CLI as the workers run it")
-    ap.add_argument("--threads", type=int, default=0, help="threads per task (0: every core of the worker)")
-    ap.add_argument("--dry-run", action="store_true")
-    args = ap.parse_args()
+    args = parse_submit_arguments(__doc__, "workers", "worker", [("--pool", "none")])
     plan = os.path.abspath(args.plan)
     files = tempfile.mkdtemp(prefix="statfilter-deadline-")
     previous = None

@@ -10,23 +10,16 @@ layer before it. Every frame runs `statfilter task PLAN N`; OpenCue's retries re
 Needs OpenCue's pyoutline (`outline`) and a configured cuebot; --dry-run prints the layers only. The
 plan, its input, output and work directory must be on storage every render node sees.
 """
-import argparse
 import os
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from plan_phases import phases  # noqa: E402
+from submit_arguments import parse_submit_arguments  # noqa: E402
 
 
 def main():
-    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("plan")
-    ap.add_argument("--show", default="statfilter")
-    ap.add_argument("--shot", default="denoise")
-    ap.add_argument("--statfilter", default="statfilter", help="the CLI as the render nodes run it")
-    ap.add_argument("--threads", type=int, default=0, help="threads per task (0: every core of the node)")
-    ap.add_argument("--dry-run", action="store_true")
-    args = ap.parse_args()
+    args = parse_submit_arguments(__doc__, "render nodes", "node", [("--show", "statfilter"), ("--shot", "denoise")])
     plan = os.path.abspath(args.plan)
     layers = []
     for name, first, last in phases(plan):

@@ -127,7 +127,9 @@ TEST(Streaming, StreamedEqualsInMemoryAtABudgetThatForcesManyBands) {
         ASSERT_EQ(probe.status, SF_OK) << what << ": " << probe.message;
         EXPECT_EQ(probe.streamed, 1.0) << what;
         // At the default budget the shot is one band, read once and kept for the second pass.
-        if (name == "pca" || name == "error-threshold") EXPECT_EQ(probe.bands, 1) << what;
+        if (name == "pca" || name == "error-threshold") {
+            EXPECT_EQ(probe.bands, 1) << what;
+        }
         expect_close(samples_of(read_sequence(shot.dir.file("probe.####.exr")).get()), expected,
                      name == "copy" || name == "diffusion" ? 0.0 : 1e-4, what + " (one band)");
         const std::string out = shot.dir.file(name + "_" + std::to_string(&name - &kStreamed[0].first) + ".####.exr");
@@ -136,7 +138,9 @@ TEST(Streaming, StreamedEqualsInMemoryAtABudgetThatForcesManyBands) {
         const double component = 8.0 * shot.shape.height * shot.shape.width * shot.shape.channels;  // a rank above 1
         const RunResult r = run_files(name, params, shot.in, out, static_cast<int64_t>(probe.needed + 2 * row + 4 * component));
         ASSERT_EQ(r.status, SF_OK) << what << ": " << r.message;
-        if (name == "pca" || name == "error-threshold") EXPECT_GE(r.bands, 4) << what;
+        if (name == "pca" || name == "error-threshold") {
+            EXPECT_GE(r.bands, 4) << what;
+        }
         if (name == "auto") {
             const char* method = nullptr;
             Filt f = make_filter(name, params);  // the streamed run reports what the preset picked
