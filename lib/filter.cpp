@@ -49,7 +49,7 @@ void Filter::execute(const Sequence& input, Sequence& output, const Progress& pr
     if (pre) {  // the stage's execute gives it input's attributes
         prefiltered = std::make_unique<Sequence>(input.shape());
         if (trusts_time_by_tile(params_)) {  // frame by frame, each probed once more
-            trust = std::make_unique<TimeTrust>(input.shape());
+            trust = std::make_unique<TimeTrust>(input.shape(), time_trust_options(params_));
             FrameStagePool pool("prefilter", params_);
             prefilter_and_probe(pool, *source, *prefiltered, *trust, resolve_threads(0), {progress, 0, pre_span, "prefilter"});
             pool.add_results(results_);

@@ -19,8 +19,8 @@ float random_sign(int64_t frame, int64_t sample) {
 
 // Position of pixel coordinate i among tile centres: index of the tile before it and the weight of
 // the next one (clamped at the borders).
-void between_centres(int64_t i, int64_t tiles, int64_t& first, double& t) {
-    const double pos = std::clamp((static_cast<double>(i) + 0.5) / TimeTrust::kTile - 0.5, 0.0,
+void between_centres(int64_t i, int64_t tile, int64_t tiles, int64_t& first, double& t) {
+    const double pos = std::clamp((static_cast<double>(i) + 0.5) / static_cast<double>(tile) - 0.5, 0.0,
                                   static_cast<double>(tiles - 1));
     first = std::min(static_cast<int64_t>(pos), tiles - 1);
     t = pos - static_cast<double>(first);
@@ -28,19 +28,20 @@ void between_centres(int64_t i, int64_t tiles, int64_t& first, double& t) {
 
 // Every sample of a frame in memory order, with the tile it lies in: visit(tile, sample).
 template <class Visit>
-void each_sample_by_tile(const Shape& shape, int64_t tiles_x, Visit&& visit) {
+void each_sample_by_tile(const Shape& shape, int64_t tile, int64_t tiles_x, Visit&& visit) {
     const int64_t W = shape.width, H = shape.height, C = shape.channels;
     for (int64_t py = 0; py < H; ++py)
         for (int64_t px = 0; px < W; ++px) {
-            const auto t = static_cast<size_t>((py / TimeTrust::kTile) * tiles_x + px / TimeTrust::kTile);
+            const auto t = static_cast<size_t>((py / tile) * tiles_x + px / tile);
             for (int64_t c = 0; c < C; ++c) visit(t, (py * W + px) * C + c);
         }
 }
 
 }  // namespace
 
-TimeTrust::TimeTrust(const Shape& shape)
-    : shape_(shape), tiles_x_((shape.width + kTile - 1) / kTile), tiles_y_((shape.height + kTile - 1) / kTile),
+TimeTrust::TimeTrust(const Shape& shape, const TimeTrustOptions& options)
+    : shape_(shape), options_(options), tiles_x_((shape.width + options.tile - 1) / options.tile),
+      tiles_y_((shape.height + options.tile - 1) / options.tile),
       stein_(static_cast<size_t>(shape.frames)), sigma2_(static_cast<size_t>(shape.frames)),
       num_(static_cast<size_t>(shape.frames)), den_(static_cast<size_t>(shape.frames)) {}
 
@@ -48,7 +49,7 @@ void TimeTrust::probe(int64_t f, const float* x, const float* y, const std::func
     const int64_t samples = shape_.width * shape_.height * shape_.channels;
     // Each tile's noise variance sigma^2, from the prefilter's residual x - y (the truth is near y).
     std::vector<double> sigma2(static_cast<size_t>(tiles_x_ * tiles_y_), 0.0), count(sigma2.size(), 0.0);
-    each_sample_by_tile(shape_, tiles_x_, [&](size_t t, int64_t i) {
+    each_sample_by_tile(shape_, options_.tile, tiles_x_, [&](size_t t, int64_t i) {
         const double r = static_cast<double>(x[i]) - y[i];
         if (std::isfinite(r)) {
             sigma2[t] += r * r;
@@ -56,11 +57,11 @@ void TimeTrust::probe(int64_t f, const float* x, const float* y, const std::func
         }
     });
     for (size_t t = 0; t < sigma2.size(); ++t) sigma2[t] = count[t] > 0 ? sigma2[t] / count[t] : 0.0;
-    // The probe: x + eps b, eps a twentieth of the tile's noise (scales with the data), b a sign.
+    // The probe: x + eps b, eps a share of the tile's noise (scales with the data), b a sign.
     std::vector<double> eps(sigma2.size());
-    for (size_t t = 0; t < sigma2.size(); ++t) eps[t] = 0.05 * std::sqrt(sigma2[t]);
+    for (size_t t = 0; t < sigma2.size(); ++t) eps[t] = options_.probe * std::sqrt(sigma2[t]);
     std::vector<float> perturbed(x, x + samples), step(static_cast<size_t>(samples), 0.0f);
-    each_sample_by_tile(shape_, tiles_x_, [&](size_t t, int64_t i) {
+    each_sample_by_tile(shape_, options_.tile, tiles_x_, [&](size_t t, int64_t i) {
         float v = x[i] + static_cast<float>(eps[t]) * random_sign(f, i);
         if (x[i] >= 0 && v < 0) v = 0;  // renders are non-negative: so is what the prefilter sees
         step[static_cast<size_t>(i)] = v - x[i];
@@ -68,7 +69,7 @@ void TimeTrust::probe(int64_t f, const float* x, const float* y, const std::func
     });
     prefilter(perturbed.data());
     std::vector<double> stein(sigma2.size(), 0.0);
-    each_sample_by_tile(shape_, tiles_x_, [&](size_t t, int64_t i) {
+    each_sample_by_tile(shape_, options_.tile, tiles_x_, [&](size_t t, int64_t i) {
         const double s = step[static_cast<size_t>(i)];
         if (s == 0) return;
         // sigma^2 dy_i/dx_i, estimated along the sign pattern: sigma^2 b (y' - y) / eps
@@ -83,7 +84,7 @@ void TimeTrust::measure(int64_t f, const float* x, const float* y, const float* 
     const std::vector<double>& stein = stein_[static_cast<size_t>(f)];
     if (stein.empty()) throw Error(Status::Internal, "time trust: frame " + std::to_string(f) + " was not probed");
     std::vector<double> num(stein), den(stein.size(), 0.0);
-    each_sample_by_tile(shape_, tiles_x_, [&](size_t t, int64_t i) {
+    each_sample_by_tile(shape_, options_.tile, tiles_x_, [&](size_t t, int64_t i) {
         const double d = static_cast<double>(y[i]) - z[i];
         const double e = static_cast<double>(y[i]) - x[i];
         if (!std::isfinite(d) || !std::isfinite(e)) return;
@@ -98,7 +99,7 @@ double TimeTrust::blend(int64_t f, const float* y, float* z) const {
     const int64_t W = shape_.width, H = shape_.height, C = shape_.channels;
     const size_t tiles = static_cast<size_t>(tiles_x_ * tiles_y_);
     std::vector<double> num(tiles, 0.0), den(tiles, 0.0), sigma2(tiles, 0.0);
-    for (int64_t g = std::max<int64_t>(0, f - kPool); g <= std::min(shape_.frames - 1, f + kPool); ++g) {
+    for (int64_t g = std::max<int64_t>(0, f - options_.pool); g <= std::min(shape_.frames - 1, f + options_.pool); ++g) {
         if (num_[static_cast<size_t>(g)].size() != tiles)
             throw Error(Status::Internal, "time trust: frame " + std::to_string(g) + " was not measured");
         for (size_t t = 0; t < tiles; ++t) {
@@ -112,7 +113,7 @@ double TimeTrust::blend(int64_t f, const float* y, float* z) const {
     for (size_t t = 0; t < tiles; ++t) {
         // The fit, num / den, weighed against the prior w = 1 by its evidence den / sigma^2 (sigma^2
         // summed over the pooled frames as den is).
-        const double frames = static_cast<double>(std::min(shape_.frames - 1, f + kPool) - std::max<int64_t>(0, f - kPool) + 1);
+        const double frames = static_cast<double>(std::min(shape_.frames - 1, f + options_.pool) - std::max<int64_t>(0, f - options_.pool) + 1);
         const double noise = sigma2[t] / frames;
         const double evidence = noise > 0 ? den[t] / noise : 0.0;
         const double fit = den[t] > 0 ? std::clamp(num[t] / den[t], 0.0, 1.0) : 1.0;
@@ -123,12 +124,12 @@ double TimeTrust::blend(int64_t f, const float* y, float* z) const {
     for (int64_t py = 0; py < H; ++py) {
         int64_t ty;
         double ay;
-        between_centres(py, tiles_y_, ty, ay);
+        between_centres(py, options_.tile, tiles_y_, ty, ay);
         const int64_t ty1 = std::min(ty + 1, tiles_y_ - 1);
         for (int64_t px = 0; px < W; ++px) {
             int64_t tx;
             double ax;
-            between_centres(px, tiles_x_, tx, ax);
+            between_centres(px, options_.tile, tiles_x_, tx, ax);
             const int64_t tx1 = std::min(tx + 1, tiles_x_ - 1);
             auto at = [&](int64_t a, int64_t b) { return share[static_cast<size_t>(a * tiles_x_ + b)]; };
             const double w = (1 - ay) * ((1 - ax) * at(ty, tx) + ax * at(ty, tx1)) + ay * ((1 - ax) * at(ty1, tx) + ax * at(ty1, tx1));

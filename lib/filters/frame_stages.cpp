@@ -15,10 +15,26 @@ std::vector<ParamSpec> prefilter_params() {
                                   "the prefilter's parameters as name=value,name=value (e.g. quality=high); "
                                   "its defaults otherwise");
     ParamSpec trust = int_param("prefilter_trust", "1", 0, 1,
-                                "1: after the prefilter, each 16 x 16 tile of a frame keeps only the share of the "
+                                "1: after the prefilter, each tile of a frame (prefilter_trust_tile) keeps only the share of the "
                                 "temporal filter's change that its noisy frame supports (no ghost where the temporal "
                                 "model fails; costs one more prefilter run per frame); 0: the temporal result as it is");
-    return {name, list, trust};
+    // The trust blend's constants (statfilter/time_trust.hpp): defaults checked leave-one-scene-out
+    // (docs/preset_loso.md).
+    ParamSpec tile = int_param("prefilter_trust_tile", "16", 4, 256,
+                               "the trust blend's tile side in pixels: one share of the temporal change per tile");
+    ParamSpec pool = int_param("prefilter_trust_pool", "2", 0, 16,
+                               "the trust blend's fit is pooled over frames t - this .. t + this");
+    ParamSpec probe = float_param("prefilter_trust_probe", "0.05", 0.001, 1,
+                                  "the step of the trust blend's second prefilter run, in units of the tile's noise");
+    return {name, list, trust, tile, pool, probe};
+}
+
+TimeTrustOptions time_trust_options(const ParamSet& params) {
+    TimeTrustOptions o;
+    o.tile = params.get_int("prefilter_trust_tile");
+    o.pool = params.get_int("prefilter_trust_pool");
+    o.probe = params.get_float("prefilter_trust_probe");
+    return o;
 }
 
 std::vector<ParamSpec> postfilter_params(const char* default_filter, const char* default_params) {

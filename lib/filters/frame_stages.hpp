@@ -14,6 +14,7 @@
 #include "statfilter/params.hpp"
 #include "statfilter/progress.hpp"
 #include "statfilter/sequence.hpp"
+#include "statfilter/time_trust.hpp"
 
 namespace statfilter {
 
@@ -49,6 +50,8 @@ bool has_frame_stage(const ParamSet& params, const std::string& stage);
 // True when a prefilter runs and the temporal result is to be blended back towards it tile by tile
 // where the noisy frames do not support it (prefilter_trust; statfilter/time_trust.hpp).
 bool trusts_time_by_tile(const ParamSet& params);
+// The trust blend's constants, from the prefilter_trust_* parameters.
+TimeTrustOptions time_trust_options(const ParamSet& params);
 // True when a prefilter runs and its output is to be scaled to the noisy shot's light (keep_mean).
 bool keeps_prefilter_light(const ParamSet& params);
 

@@ -73,7 +73,7 @@ void Filter::execute(const FrameSource& source, FrameSink& sink, const RunOption
             // The temporal passes read bands of every prefiltered frame twice: park them on disk.
             start = 0.3;
             scratch = std::make_unique<ScratchFrames>(s, source.attributes());
-            if (trusting) trust = std::make_unique<TimeTrust>(s);
+            if (trusting) trust = std::make_unique<TimeTrust>(s, time_trust_options(params_));
             const Shape one{1, s.height, s.width, s.channels};
             std::vector<std::vector<double>> noisy_light(static_cast<size_t>(s.frames)), filtered_light(noisy_light.size());
             parallel_for(s.frames, threads, [&](int64_t f) {

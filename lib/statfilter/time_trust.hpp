@@ -20,13 +20,19 @@
 
 namespace statfilter {
 
-class TimeTrust {
-public:
+struct TimeTrustOptions {
     // 16 x 16 pixels: with three channels, 768 samples per fit, enough for the share to be steady at
     // 4 samples per pixel; small enough to follow a moving object.
-    static constexpr int64_t kTile = 16;
+    int64_t tile = 16;
+    // Frames t - pool .. t + pool share a tile's fit.
+    int64_t pool = 2;
+    // The probe's step, in units of the tile's noise.
+    double probe = 0.05;
+};
 
-    explicit TimeTrust(const Shape& shape);
+class TimeTrust {
+public:
+    explicit TimeTrust(const Shape& shape, const TimeTrustOptions& options = {});
 
     // Frame f's Stein correction per tile, from its noisy pixels x, the prefilter's output y = P(x)
     // and one more run of P (filters a frame in place) on a perturbed copy of x. Frames may be
@@ -38,14 +44,12 @@ public:
     // Once every frame is measured: z (frame f of the temporal result) becomes y - w (y - z); returns
     // the mean share w of the frame.
     double blend(int64_t f, const float* y, float* z) const;
-    // Frames t - kPool .. t + kPool share a tile's fit.
-    static constexpr int64_t kPool = 2;
-
     int64_t tiles_x() const { return tiles_x_; }
     int64_t tiles_y() const { return tiles_y_; }
 
 private:
     Shape shape_;
+    TimeTrustOptions options_;
     int64_t tiles_x_, tiles_y_;
     // [frame][tile]: Stein's correction, noise variance, the fit's numerator and denominator
     std::vector<std::vector<double>> stein_, sigma2_, num_, den_;

@@ -3,6 +3,7 @@
 // whole pipeline with a prefilter on a scene where the temporal filter ghosts.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 #include <vector>
@@ -75,9 +76,9 @@ double mse(const std::vector<float>& a, const std::vector<float>& b, int64_t x0 
 }
 
 // Runs the trust blend over every frame; z in place.
-std::vector<double> blend_all(const Frames& s, std::vector<std::vector<float>>& z) {
+std::vector<double> blend_all(const Frames& s, std::vector<std::vector<float>>& z, const TimeTrustOptions& options = {}) {
     const auto frames = static_cast<int64_t>(s.noisy.size());
-    TimeTrust trust(Shape{frames, kH, kW, kC});
+    TimeTrust trust(Shape{frames, kH, kW, kC}, options);
     for (int64_t f = 0; f < frames; ++f)
         trust.probe(f, s.noisy[static_cast<size_t>(f)].data(), s.prefiltered[static_cast<size_t>(f)].data(), box_blur);
     for (int64_t f = 0; f < frames; ++f)
@@ -109,6 +110,24 @@ TEST(TimeTrust, KeepsWhatTheNoisyFramesSupportAndDropsAGhost) {
         // the right: the temporal result kept (better than the prefilter alone)
         EXPECT_LT(clean, 0.3 * mse(s.prefiltered[f], s.truth[f], kW / 2 + 8, kW)) << "frame " << f;
     }
+}
+
+// The tile is the blend's resolution: one tile over the whole frame cannot drop the ghost in the left
+// half and keep the true temporal result on the right, 16-pixel tiles can.
+TEST(TimeTrust, TheTileSetsWhereTheGhostCanBeDropped) {
+    const Frames s = make_frames(8, 0.3);
+    std::vector<std::vector<float>> ghosted = s.truth;
+    for (auto& frame : ghosted)
+        for (int64_t y = 0; y < kH; ++y)
+            for (int64_t x = 0; x < kW / 2; ++x)
+                for (int64_t c = 0; c < kC; ++c) frame[static_cast<size_t>((y * kW + x) * kC + c)] += 0.4f;
+    std::vector<std::vector<float>> fine = ghosted, whole = ghosted;
+    TimeTrustOptions one_tile;
+    one_tile.tile = 4 * std::max(kW, kH);
+    blend_all(s, fine);
+    blend_all(s, whole, one_tile);
+    for (size_t f = 0; f < fine.size(); ++f)
+        EXPECT_GT(mse(whole[f], s.truth[f], kW / 2 + 8, kW), 2 * mse(fine[f], s.truth[f], kW / 2 + 8, kW)) << "frame " << f;
 }
 
 // Without Stein's correction the fit would prefer the prefilter (made from the same noisy frame) even
