@@ -24,6 +24,7 @@
 #include "filters/low_rank_reconstruction.hpp"
 #include "filters/motion_analysis.hpp"
 #include "filters/temporal_params.hpp"
+#include "pipeline/parallel.hpp"
 #include "statfilter/anisotropic_diffusion.hpp"
 #include "statfilter/error.hpp"
 #include "statfilter/filter_registry.hpp"
@@ -113,7 +114,8 @@ protected:
         MotionMaps maps;
         maps.alpha = compute_alpha(series, basis, params(), {progress, 0.2, 0.1, "motion"});
         // Where things move: alpha, the temporal-change test and the renderer's vectors when given.
-        const auto weight = moving_weight(input, *maps.alpha, passes, params());
+        std::vector<float> crossings;
+        const auto weight = moving_weight(input, *maps.alpha, passes, params(), &crossings);
         const double moving = mean_of_map(*weight);
         mutable_results().set("motion_fraction", moving);
         mutable_results().set_image("alpha", maps.alpha);
@@ -128,7 +130,7 @@ protected:
             return;
         }
         if (params().get_string("motion_compensation") == "auto") {
-            run_motion_compensated(input, output, *weight, passes, progress);
+            run_motion_compensated(input, output, *weight, crossings, passes, progress);
             return;
         }
         compute_beta(input, passes, params(), maps);
@@ -174,6 +176,35 @@ protected:
     }
 
 private:
+    // Where the change test saw motion alpha did not (crossings > 0, inside the moving region), the
+    // first pass becomes the frame's own diffusion, as the streamed stage does (filters/hybrid_stage.hpp):
+    // I_T holds a ghost of what crossed there. Returns the share of pixels it applies to.
+    double own_first_pass(const Sequence& input, const std::vector<float>& crossings, const Sequence& moving_map,
+                          Sequence& first_pass) const {
+        const Shape& s = input.shape();
+        const int64_t P = s.pixels(), C = s.channels;
+        std::vector<int64_t> pixels;
+        for (int64_t p = 0; p < static_cast<int64_t>(crossings.size()); ++p)
+            if (crossings[static_cast<size_t>(p)] > 0 && moving_map.at(0, p / s.width, p % s.width, 0) > 0) pixels.push_back(p);
+        if (pixels.empty()) return 0.0;
+        const DiffusionOptions options = diffusion_options(params());
+        const Progress none;
+        parallel_for(s.frames, resolve_threads(0), [&](int64_t f) {
+            std::vector<float> frame(static_cast<size_t>(P * C));  // input may be a strided view
+            for (int64_t p = 0; p < P; ++p)
+                for (int64_t c = 0; c < C; ++c) frame[static_cast<size_t>(p * C + c)] = input.at(f, p / s.width, p % s.width, c);
+            diffuse_frame(frame.data(), s.width, s.height, C, options);
+            for (const int64_t p : pixels) {
+                const float w = crossings[static_cast<size_t>(p)];
+                for (int64_t c = 0; c < C; ++c) {
+                    float& e = first_pass.at(f, p / s.width, p % s.width, c);
+                    e += w * (frame[static_cast<size_t>(p * C + c)] - e);
+                }
+            }
+        }, {none});
+        return static_cast<double>(pixels.size()) / static_cast<double>(P);
+    }
+
     // I_T, the global temporal filter (`temporal`), into output; its rank results as temporal_*.
     void run_temporal(const Sequence& input, Sequence& output, const ProgressSpan& span) {
         auto temporal = create_filter(params().get_string("temporal"));
@@ -189,7 +220,7 @@ private:
     // I_T where nothing moves, the motion-compensated average where things move (`moving`, 1 = moving),
     // aligned along the renderer's vectors when given, else along optical flow.
     void run_motion_compensated(const Sequence& input, Sequence& output, const Sequence& moving_map,
-                                const GuidePasses& guides, const Progress& progress) {
+                                const std::vector<float>& crossings, const GuidePasses& guides, const Progress& progress) {
         const Sequence* vectors = guides.vectors;
         const Shape& s = input.shape();
         run_temporal(input, output, {progress, 0.3, 0.15, "temporal"});
@@ -203,6 +234,8 @@ private:
             progress.report(0.45 + 0.05 * f, "first pass");
             return true;
         }));
+        const double own = own_first_pass(input, crossings, moving_map, aligned);
+        mutable_results().set("own_first_pass_fraction", own);
         // The passes guide the flow; with the renderer's vectors there is no flow to guide.
         const auto passes = guides.surfaces() && !vectors ? make_pass_guide(guides.albedo, guides.normal) : nullptr;
         // The moving weight, grown by a max filter: alpha is pooled over a box and ramps, so

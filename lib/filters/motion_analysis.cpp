@@ -94,7 +94,7 @@ GuidePasses guide_passes(const Filter& filter, const Sequence& input, const Para
 }
 
 std::shared_ptr<Sequence> moving_weight(const Sequence& input, const Sequence& alpha, const GuidePasses& passes,
-                                        const ParamSet& params) {
+                                        const ParamSet& params, std::vector<float>* crossings) {
     const Shape& s = input.shape();
     auto weight = std::make_shared<Sequence>(alpha.shape());
     weight->channel_names()[0] = "moving";
@@ -104,7 +104,15 @@ std::shared_ptr<Sequence> moving_weight(const Sequence& input, const Sequence& a
     if (z > 0) {
         TemporalChangeOptions o;
         o.z_threshold = z;
-        combine_max(*weight, *motion_from_temporal_change(input, o));
+        const auto change = motion_from_temporal_change(input, o);
+        if (crossings) {
+            crossings->resize(static_cast<size_t>(s.pixels()));
+            for (int64_t p = 0; p < s.pixels(); ++p)
+                (*crossings)[static_cast<size_t>(p)] = change->at(0, p / s.width, p % s.width, 0) * alpha.at(0, p / s.width, p % s.width, 0);
+        }
+        combine_max(*weight, *change);
+    } else if (crossings) {
+        crossings->clear();
     }
     // The renderer's albedo/normal passes change exactly where geometry moves, which noise cannot fake:
     // a pixel that departs from its temporal median in any frame (beta from the passes) moves.

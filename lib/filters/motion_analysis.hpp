@@ -48,8 +48,11 @@ void compute_beta(const Sequence& input, const GuidePasses& passes, const ParamS
 // change test (change_z > 0), the albedo/normal passes (beta from them, in any frame) or the
 // renderer's motion vectors (when given) say the pixel moves. The
 // still/moving decisions of the hybrid and of auto and the hybrid's motion-compensated region use it.
+// crossings, when given, receives per pixel the change test's map times alpha: motion alpha missed
+// (an object crossing the pixel in a frame or two), where the hybrid's first pass is the frame's own
+// diffusion (filters/hybrid_stage.hpp); empty when the test is off.
 std::shared_ptr<Sequence> moving_weight(const Sequence& input, const Sequence& alpha, const GuidePasses& passes,
-                                        const ParamSet& params);
+                                        const ParamSet& params, std::vector<float>* crossings = nullptr);
 
 // A renderer pass (albedo, normal) for the input's frames, read from a file pattern; its frames and
 // size must match the input's.
