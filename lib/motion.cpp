@@ -131,6 +131,7 @@ std::shared_ptr<Sequence> local_motion_from_zscores(const Sequence& input, const
     beta->channel_names()[0] = "beta";
     beta->frame_numbers() = input.frame_numbers();
     if (s.frames < 3) return beta;  // too few frames to tell motion from noise: nothing is flagged
+    if (!(o.scale > 0) || !std::isfinite(o.scale)) throw Error(Status::InvalidArgument, "local motion: scale must be > 0");
     // Robust per-pixel centre and spread of the log luminance: median and 1.4826 x MAD over time.
     const int64_t P = s.pixels();
     std::vector<float> lum(static_cast<size_t>(s.frames * P));
@@ -138,7 +139,7 @@ std::shared_ptr<Sequence> local_motion_from_zscores(const Sequence& input, const
         for (int64_t p = 0; p < P; ++p) {
             double sum = 0;
             for (int64_t c = 0; c < s.channels; ++c) sum += input.at(f, p / s.width, p % s.width, c);
-            const double l = sum / s.channels;
+            const double l = sum / s.channels / o.scale;
             lum[f * P + p] = static_cast<float>(std::copysign(std::log1p(std::fabs(l)), l));
         }
     std::vector<cv::Mat> z2(static_cast<size_t>(s.frames));

@@ -6,6 +6,7 @@
 #include "statfilter/error.hpp"
 #include "statfilter/frame_pattern.hpp"
 #include "statfilter/sequence_io.hpp"
+#include "statfilter/value_transform.hpp"
 
 namespace statfilter {
 
@@ -168,6 +169,9 @@ void compute_beta(const Sequence& input, const GuidePasses& passes, const ParamS
         l.z_threshold = params.get_float("z_threshold");
         l.window = static_cast<int>(params.get_int("z_window"));
         l.dilate = dilate;
+        // In the units of the data, as the transform is: the same map at any exposure.
+        const double factor = params.has("transform_scale") ? params.get_float("transform_scale") : 0.0;
+        if (factor > 0) l.scale = factor * transform_level(input, ChannelSelection::all(input.shape()));
         maps.beta = local_motion_from_zscores(input, l);
     }
     maps.beta->frame_numbers() = input.frame_numbers();

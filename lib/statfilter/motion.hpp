@@ -58,6 +58,9 @@ struct LocalMotionOptions {
     double z_threshold = 2.5;
     int window = 5;    // side of the box the squared z-scores are averaged over
     int dilate = 2;    // pixels
+    // The scores are on log1p(|l| / scale), l the luminance: scale in the input's units, so that the
+    // map does not depend on them (the filters pass transform_scale x transform_level; 1 = the units).
+    double scale = 1.0;
 };
 
 // beta from z-scores: a F-frame, 1-channel sequence of 0/1.

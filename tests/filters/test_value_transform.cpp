@@ -201,10 +201,10 @@ TEST(ValueTransform, EveryMethodIsScaleEquivariant) {
     expect_scale_equivariant(gamma_scene(2.0, false), methods());
 }
 
-// With something moving, the hybrid's motion-compensated average and its local motion z-scores still
-// work on log1p(|x|) in the input's units (lib/motion_compensation.cpp, lib/motion.cpp): enable this
-// once they take the series' scale (PreparedSeries::scale, transform_level).
-TEST(ValueTransform, DISABLED_MotionPathsAreScaleEquivariant) {
+// With something moving: the motion-compensated average weighs samples in units of the first pass'
+// mean, and the local motion z-scores (motion_compensation=off) are taken on log1p(|l| / s) with s
+// the transform's scale (transform_scale x transform_level), so neither depends on the input's units.
+TEST(ValueTransform, MotionPathsAreScaleEquivariant) {
     expect_scale_equivariant(gamma_scene(2.0, true), {{"hybrid", "hybrid", {}},
                                                       {"hybrid (motion_compensation off)", "hybrid", {{"motion_compensation", "off"}}},
                                                       {"auto balanced", "auto", {{"quality", "balanced"}}}});
