@@ -268,6 +268,18 @@ void HybridStage::run(const FrameSource& source, const FrameConsumer& consume, c
     // own diffusion where I_T ghosts: the flow then follows the object, and a pixel with nothing to
     // average is no worse than a single-frame filter), frame by frame, parked; the first pass' sums
     // as they come.
+    // The fireflies the statistics pass found, frame by frame: the temporal model never saw them, and
+    // neither may the frame's own diffusion or the average along the flow, which read the input again
+    // (else a firefly spreads to the frames aligned with its own).
+    std::vector<std::vector<std::pair<int64_t, float>>> fireflies(static_cast<size_t>(F));
+    for (const TemporalOutlier& o : stats.fireflies.empty() ? std::vector<TemporalOutlier>() : stats.fireflies.front()) {
+        const int64_t p = o.series / group.group.count, c = group.group.first + o.series % group.group.count;
+        fireflies[static_cast<size_t>(o.frame)].emplace_back(p * C + c, static_cast<float>(o.value));
+    }
+    const auto read_input = [&](int64_t f, float* frame) {
+        source.read_rows(f, 0, H, frame);
+        for (const auto& [i, v] : fireflies[static_cast<size_t>(f)]) frame[i] = v;
+    };
     ScratchFrames temporal_frames(s, source.attributes()), first_pass(s, source.attributes());
     std::vector<double> sums(static_cast<size_t>(F)), still_levels(static_cast<size_t>(F));
     const Progress rebuild = part_of(progress, 0.3, 0.2);
@@ -281,7 +293,7 @@ void HybridStage::run(const FrameSource& source, const FrameConsumer& consume, c
         refine.apply(t, estimate.data(), s, source.attributes());
         if (!own_pixels.empty()) {
             std::vector<float> own(static_cast<size_t>(frame_samples));
-            source.read_rows(t, 0, H, own.data());
+            read_input(t, own.data());
             diffuse_frame(own.data(), W, H, C, options_.single_frame);
             for (const int64_t p : own_pixels) {
                 const float w = own_weight[static_cast<size_t>(p)];
@@ -382,7 +394,7 @@ void HybridStage::run(const FrameSource& source, const FrameConsumer& consume, c
             w.values.resize(frame.size());
             w.guide.resize(frame.size());
             w.image.resize(static_cast<size_t>(P));
-            source.read_rows(f, 0, H, frame.data());
+            read_input(f, frame.data());
             aligned_values(frame.data(), frame_samples, gain(f), mc.transform, w.values.data());
             guide_frames.read_rows(f, 0, H, w.guide.data());
             flow_image(w.guide.data(), W, H, C, scale, w.image.data());

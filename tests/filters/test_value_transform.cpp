@@ -179,11 +179,27 @@ TEST(ValueTransform, InverseKeepsTheMeanAndTheSign) {
     }
 }
 
+// The share of samples of a and b further apart than tolerance.
+double share_apart(const Sequence& a, const Sequence& b, double tolerance) {
+    const Shape& s = a.shape();
+    int64_t apart = 0;
+    for (int64_t f = 0; f < s.frames; ++f)
+        for (int64_t y = 0; y < s.height; ++y)
+            for (int64_t x = 0; x < s.width; ++x)
+                for (int64_t c = 0; c < s.channels; ++c)
+                    apart += std::fabs(static_cast<double>(a.at(f, y, x, c)) - b.at(f, y, x, c)) > tolerance;
+    return static_cast<double>(apart) / static_cast<double>(s.samples());
+}
+
 // denoise(k x) = k denoise(x): the transform, the noise estimates, motion and diffusion all act
 // relative to the data. Tolerance: 1e-3 of the output's largest magnitude (float rounding of k x
 // moves samples by ~1e-7 relative, and a rank or motion decision near its threshold by a little
-// more); measured differences are far below it.
-void expect_scale_equivariant(const Scene& s, const std::vector<Method>& methods) {
+// more); measured differences are far below it. With `flips`, that many samples in 10^4 may differ
+// by up to 1e-2 of it: where frames are averaged along the flow, a sample whose firefly score sits
+// within float rounding of the threshold is replaced at one scale and not at the other, and it is a
+// whole sample of a ~10-frame average there (measured on the moving scene below: 4 and 15 samples
+// of 221184 at k = 1e3, up to 0.2% of the largest output; none at the other scales).
+void expect_scale_equivariant(const Scene& s, const std::vector<Method>& methods, double flips = 0) {
     for (const Method& m : methods) {
         const FilterRun base = run_filter(m.filter, *s.noisy, m.params);
         const double size = max_abs(*base.output);
@@ -191,7 +207,12 @@ void expect_scale_equivariant(const Scene& s, const std::vector<Method>& methods
         for (double k : {1e-6, 1e-3, 1e3, 1e6}) {
             const FilterRun r = run_filter(m.filter, *scaled(*s.noisy, k), m.params);
             const auto back = scaled(*r.output, 1.0 / k);
-            EXPECT_LT(max_abs_diff(*back, *base.output), 1e-3 * size) << m.label << " k " << k;
+            if (flips > 0) {
+                EXPECT_LE(share_apart(*back, *base.output, 1e-3 * size), flips * 1e-4) << m.label << " k " << k;
+                EXPECT_LT(max_abs_diff(*back, *base.output), 1e-2 * size) << m.label << " k " << k;
+            } else {
+                EXPECT_LT(max_abs_diff(*back, *base.output), 1e-3 * size) << m.label << " k " << k;
+            }
         }
     }
 }
@@ -207,7 +228,8 @@ TEST(ValueTransform, EveryMethodIsScaleEquivariant) {
 TEST(ValueTransform, MotionPathsAreScaleEquivariant) {
     expect_scale_equivariant(gamma_scene(2.0, true), {{"hybrid", "hybrid", {}},
                                                       {"hybrid (motion_compensation off)", "hybrid", {{"motion_compensation", "off"}}},
-                                                      {"auto balanced", "auto", {{"quality", "balanced"}}}});
+                                                      {"auto balanced", "auto", {{"quality", "balanced"}}}},
+                             1.0);
 }
 
 TEST(ValueTransform, TheStudysBlendOnExponentialNoiseStaysWithinOnePercent) {
