@@ -176,16 +176,14 @@ protected:
     }
 
 private:
-    // Where the change test saw motion alpha did not (crossings > 0, inside the moving region), the
-    // first pass becomes the frame's own diffusion, as the streamed stage does (filters/hybrid_stage.hpp):
-    // I_T holds a ghost of what crossed there. Returns the share of pixels it applies to.
-    double own_first_pass(const Sequence& input, const std::vector<float>& crossings, const Sequence& moving_map,
-                          Sequence& first_pass) const {
+    // Where the change test saw motion alpha did not (crossings > 0, always inside the moving region),
+    // the first pass (contiguous: made here) becomes the frame's own diffusion, as the streamed stage
+    // does (filters/hybrid_stage.hpp): I_T holds a ghost of what crossed there. Returns the share of
+    // pixels it applies to.
+    double own_first_pass(const Sequence& input, const std::vector<float>& crossings, Sequence& first_pass) const {
         const Shape& s = input.shape();
         const int64_t P = s.pixels(), C = s.channels;
-        std::vector<int64_t> pixels;
-        for (int64_t p = 0; p < static_cast<int64_t>(crossings.size()); ++p)
-            if (crossings[static_cast<size_t>(p)] > 0 && moving_map.at(0, p / s.width, p % s.width, 0) > 0) pixels.push_back(p);
+        const std::vector<int64_t> pixels = crossing_pixels(crossings);
         if (pixels.empty()) return 0.0;
         const DiffusionOptions options = diffusion_options(params());
         const Progress none;
@@ -194,13 +192,7 @@ private:
             for (int64_t p = 0; p < P; ++p)
                 for (int64_t c = 0; c < C; ++c) frame[static_cast<size_t>(p * C + c)] = input.at(f, p / s.width, p % s.width, c);
             diffuse_frame(frame.data(), s.width, s.height, C, options);
-            for (const int64_t p : pixels) {
-                const float w = crossings[static_cast<size_t>(p)];
-                for (int64_t c = 0; c < C; ++c) {
-                    float& e = first_pass.at(f, p / s.width, p % s.width, c);
-                    e += w * (frame[static_cast<size_t>(p * C + c)] - e);
-                }
-            }
+            blend_own_first_pass(pixels, crossings, frame.data(), C, &first_pass.at(f, 0, 0, 0));
         }, {none});
         return static_cast<double>(pixels.size()) / static_cast<double>(P);
     }
@@ -234,7 +226,7 @@ private:
             progress.report(0.45 + 0.05 * f, "first pass");
             return true;
         }));
-        const double own = own_first_pass(input, crossings, moving_map, aligned);
+        const double own = own_first_pass(input, crossings, aligned);
         mutable_results().set("own_first_pass_fraction", own);
         // The passes guide the flow; with the renderer's vectors there is no flow to guide.
         const auto passes = guides.surfaces() && !vectors ? make_pass_guide(guides.albedo, guides.normal) : nullptr;

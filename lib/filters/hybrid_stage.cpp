@@ -218,9 +218,7 @@ void HybridStage::run(const FrameSource& source, const FrameConsumer& consume, c
     // Where the change test saw what alpha did not, the frame's own diffusion is the first pass.
     std::vector<float> own_weight;
     if (test_change) {
-        own_weight.resize(static_cast<size_t>(P));
-        for (int64_t p = 0; p < P; ++p)
-            own_weight[static_cast<size_t>(p)] = change.map()->at(0, p / W, p % W, 0) * alpha->at(0, p / W, p % W, 0);
+        own_weight = crossing_weight(*change.map(), *alpha);
         combine_max(*weight, *change.map());
     }
     alpha_analysis.reset();  // their per-pixel sums are not needed past here (maps_bytes)
@@ -255,19 +253,15 @@ void HybridStage::run(const FrameSource& source, const FrameConsumer& consume, c
     for (int64_t p = 0; p < P; ++p) grown.at<float>(static_cast<int>(p)) = weight->at(0, p / W, p % W, 0);
     if (options_.mc_dilate > 0)
         cv::dilate(grown, grown, cv::Mat::ones(2 * options_.mc_dilate + 1, 2 * options_.mc_dilate + 1, CV_8U));
-    std::vector<int64_t> pixels, own_pixels;
+    std::vector<int64_t> pixels;
     std::vector<uint8_t> moving(static_cast<size_t>(P), 0);
     for (int64_t p = 0; p < P; ++p)
         if (grown.at<float>(static_cast<int>(p)) > 0.0f) {
             moving[static_cast<size_t>(p)] = 1;
             pixels.push_back(p);
-            if (!own_weight.empty() && own_weight[static_cast<size_t>(p)] > 0.0f) own_pixels.push_back(p);
         }
+    const std::vector<int64_t> own_pixels = crossing_pixels(own_weight);  // inside the moving region
 
-    // I_T and the first pass it is checked against (I_T with the light diffusion pass; the frame's
-    // own diffusion where I_T ghosts: the flow then follows the object, and a pixel with nothing to
-    // average is no worse than a single-frame filter), frame by frame, parked; the first pass' sums
-    // as they come.
     // The fireflies the statistics pass found, frame by frame: the temporal model never saw them, and
     // neither may the frame's own diffusion or the average along the flow, which read the input again
     // (else a firefly spreads to the frames aligned with its own).
@@ -280,6 +274,10 @@ void HybridStage::run(const FrameSource& source, const FrameConsumer& consume, c
         source.read_rows(f, 0, H, frame);
         for (const auto& [i, v] : fireflies[static_cast<size_t>(f)]) frame[i] = v;
     };
+    // I_T and the first pass it is checked against (I_T with the light diffusion pass; the frame's
+    // own diffusion where I_T ghosts: the flow then follows the object, and a pixel with nothing to
+    // average is no worse than a single-frame filter), frame by frame, parked; the first pass' sums
+    // as they come.
     ScratchFrames temporal_frames(s, source.attributes()), first_pass(s, source.attributes());
     std::vector<double> sums(static_cast<size_t>(F)), still_levels(static_cast<size_t>(F));
     const Progress rebuild = part_of(progress, 0.3, 0.2);
@@ -295,13 +293,7 @@ void HybridStage::run(const FrameSource& source, const FrameConsumer& consume, c
             std::vector<float> own(static_cast<size_t>(frame_samples));
             read_input(t, own.data());
             diffuse_frame(own.data(), W, H, C, options_.single_frame);
-            for (const int64_t p : own_pixels) {
-                const float w = own_weight[static_cast<size_t>(p)];
-                for (int64_t c = 0; c < C; ++c) {
-                    float& e = estimate[static_cast<size_t>(p * C + c)];
-                    e += w * (own[static_cast<size_t>(p * C + c)] - e);
-                }
-            }
+            blend_own_first_pass(own_pixels, own_weight, own.data(), C, estimate.data());
         }
         sums[static_cast<size_t>(t)] = positive_sum(estimate.data(), frame_samples);
         double level = 0;

@@ -106,11 +106,7 @@ std::shared_ptr<Sequence> moving_weight(const Sequence& input, const Sequence& a
         TemporalChangeOptions o;
         o.z_threshold = z;
         const auto change = motion_from_temporal_change(input, o);
-        if (crossings) {
-            crossings->resize(static_cast<size_t>(s.pixels()));
-            for (int64_t p = 0; p < s.pixels(); ++p)
-                (*crossings)[static_cast<size_t>(p)] = change->at(0, p / s.width, p % s.width, 0) * alpha.at(0, p / s.width, p % s.width, 0);
-        }
+        if (crossings) *crossings = crossing_weight(*change, alpha);
         combine_max(*weight, *change);
     } else if (crossings) {
         crossings->clear();
@@ -128,6 +124,32 @@ std::shared_ptr<Sequence> moving_weight(const Sequence& input, const Sequence& a
     const double drift = params.get_float("vector_drift");
     if (passes.vectors && drift > 0) combine_max(*weight, *motion_from_vectors(*passes.vectors, drift));
     return weight;
+}
+
+std::vector<float> crossing_weight(const Sequence& change, const Sequence& alpha) {
+    const Shape& s = alpha.shape();
+    std::vector<float> weight(static_cast<size_t>(s.pixels()));
+    for (int64_t p = 0; p < s.pixels(); ++p)
+        weight[static_cast<size_t>(p)] = change.at(0, p / s.width, p % s.width, 0) * alpha.at(0, p / s.width, p % s.width, 0);
+    return weight;
+}
+
+std::vector<int64_t> crossing_pixels(const std::vector<float>& weight) {
+    std::vector<int64_t> pixels;
+    for (size_t p = 0; p < weight.size(); ++p)
+        if (weight[p] > 0.0f) pixels.push_back(static_cast<int64_t>(p));
+    return pixels;
+}
+
+void blend_own_first_pass(const std::vector<int64_t>& pixels, const std::vector<float>& weight, const float* own,
+                          int64_t channels, float* first_pass) {
+    for (const int64_t p : pixels) {
+        const float w = weight[static_cast<size_t>(p)];
+        for (int64_t c = 0; c < channels; ++c) {
+            float& e = first_pass[p * channels + c];
+            e += w * (own[p * channels + c] - e);
+        }
+    }
 }
 
 std::shared_ptr<Sequence> compute_alpha(PreparedSeries& series, const TemporalBasis& basis, const ParamSet& params,

@@ -48,11 +48,18 @@ void compute_beta(const Sequence& input, const GuidePasses& passes, const ParamS
 // change test (change_z > 0), the albedo/normal passes (beta from them, in any frame) or the
 // renderer's motion vectors (when given) say the pixel moves. The
 // still/moving decisions of the hybrid and of auto and the hybrid's motion-compensated region use it.
-// crossings, when given, receives per pixel the change test's map times alpha: motion alpha missed
-// (an object crossing the pixel in a frame or two), where the hybrid's first pass is the frame's own
-// diffusion (filters/hybrid_stage.hpp); empty when the test is off.
+// crossings, when given, receives crossing_weight (empty when the test is off).
 std::shared_ptr<Sequence> moving_weight(const Sequence& input, const Sequence& alpha, const GuidePasses& passes,
                                         const ParamSet& params, std::vector<float>* crossings = nullptr);
+
+// Per pixel, the temporal-change map times alpha: motion alpha missed (an object crossing the pixel
+// in a frame or two, which no temporal basis follows), where the hybrid's first pass is the frame's
+// own diffusion (filters/hybrid_stage.hpp). The pixels with a weight above 0, in order.
+std::vector<float> crossing_weight(const Sequence& change, const Sequence& alpha);
+std::vector<int64_t> crossing_pixels(const std::vector<float>& weight);
+// first_pass += weight (own - first_pass) at those pixels: both frames contiguous (pixel, channel).
+void blend_own_first_pass(const std::vector<int64_t>& pixels, const std::vector<float>& weight, const float* own,
+                          int64_t channels, float* first_pass);
 
 // A renderer pass (albedo, normal) for the input's frames, read from a file pattern; its frames and
 // size must match the input's.
