@@ -55,15 +55,27 @@ inline double mse(const Sequence& a, const Sequence& b) {
     return sum / static_cast<double>(s.samples());
 }
 
-inline double max_abs_diff(const Sequence& a, const Sequence& b) {
+// visit(|a - b|) for every sample of two sequences of one shape.
+template <class Visit>
+void each_abs_diff(const Sequence& a, const Sequence& b, Visit&& visit) {
     const Shape& s = a.shape();
-    double m = 0;
     for (int64_t f = 0; f < s.frames; ++f)
         for (int64_t y = 0; y < s.height; ++y)
             for (int64_t x = 0; x < s.width; ++x)
-                for (int64_t c = 0; c < s.channels; ++c)
-                    m = std::max(m, std::fabs(static_cast<double>(a.at(f, y, x, c)) - b.at(f, y, x, c)));
+                for (int64_t c = 0; c < s.channels; ++c) visit(std::fabs(static_cast<double>(a.at(f, y, x, c)) - b.at(f, y, x, c)));
+}
+
+inline double max_abs_diff(const Sequence& a, const Sequence& b) {
+    double m = 0;
+    each_abs_diff(a, b, [&](double d) { m = std::max(m, d); });
     return m;
+}
+
+// The share of samples of a and b further apart than tolerance.
+inline double share_apart(const Sequence& a, const Sequence& b, double tolerance) {
+    int64_t apart = 0;
+    each_abs_diff(a, b, [&](double d) { apart += d > tolerance; });
+    return static_cast<double>(apart) / static_cast<double>(a.shape().samples());
 }
 
 inline bool all_finite(const Sequence& a) {

@@ -90,17 +90,22 @@ std::vector<double> blend_all(const Frames& s, std::vector<std::vector<float>>& 
     return share;
 }
 
+// A temporal result off by a ghost (+0.4) in the left half of every frame, right on the right.
+std::vector<std::vector<float>> ghosted_left(std::vector<std::vector<float>> frames) {
+    for (auto& frame : frames)
+        for (int64_t y = 0; y < kH; ++y)
+            for (int64_t x = 0; x < kW / 2; ++x)
+                for (int64_t c = 0; c < kC; ++c) frame[static_cast<size_t>((y * kW + x) * kC + c)] += 0.4f;
+    return frames;
+}
+
 }  // namespace
 
 // A temporal result that is the truth is kept; one that is off by a ghost in the left half is not,
 // there, and is kept on the right.
 TEST(TimeTrust, KeepsWhatTheNoisyFramesSupportAndDropsAGhost) {
     const Frames s = make_frames(8, 0.3);
-    std::vector<std::vector<float>> z = s.truth;
-    for (auto& frame : z)
-        for (int64_t y = 0; y < kH; ++y)
-            for (int64_t x = 0; x < kW / 2; ++x)
-                for (int64_t c = 0; c < kC; ++c) frame[static_cast<size_t>((y * kW + x) * kC + c)] += 0.4f;
+    std::vector<std::vector<float>> z = ghosted_left(s.truth);
     blend_all(s, z);
     for (size_t f = 0; f < z.size(); ++f) {
         const double ghost = mse(z[f], s.truth[f], 0, kW / 2 - 8), clean = mse(z[f], s.truth[f], kW / 2 + 8, kW);
@@ -116,11 +121,7 @@ TEST(TimeTrust, KeepsWhatTheNoisyFramesSupportAndDropsAGhost) {
 // half and keep the true temporal result on the right, 16-pixel tiles can.
 TEST(TimeTrust, TheTileSetsWhereTheGhostCanBeDropped) {
     const Frames s = make_frames(8, 0.3);
-    std::vector<std::vector<float>> ghosted = s.truth;
-    for (auto& frame : ghosted)
-        for (int64_t y = 0; y < kH; ++y)
-            for (int64_t x = 0; x < kW / 2; ++x)
-                for (int64_t c = 0; c < kC; ++c) frame[static_cast<size_t>((y * kW + x) * kC + c)] += 0.4f;
+    const std::vector<std::vector<float>> ghosted = ghosted_left(s.truth);
     std::vector<std::vector<float>> fine = ghosted, whole = ghosted;
     TimeTrustOptions one_tile;
     one_tile.tile = 4 * std::max(kW, kH);

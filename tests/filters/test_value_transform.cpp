@@ -179,18 +179,6 @@ TEST(ValueTransform, InverseKeepsTheMeanAndTheSign) {
     }
 }
 
-// The share of samples of a and b further apart than tolerance.
-double share_apart(const Sequence& a, const Sequence& b, double tolerance) {
-    const Shape& s = a.shape();
-    int64_t apart = 0;
-    for (int64_t f = 0; f < s.frames; ++f)
-        for (int64_t y = 0; y < s.height; ++y)
-            for (int64_t x = 0; x < s.width; ++x)
-                for (int64_t c = 0; c < s.channels; ++c)
-                    apart += std::fabs(static_cast<double>(a.at(f, y, x, c)) - b.at(f, y, x, c)) > tolerance;
-    return static_cast<double>(apart) / static_cast<double>(s.samples());
-}
-
 // denoise(k x) = k denoise(x): the transform, the noise estimates, motion and diffusion all act
 // relative to the data. Tolerance: 1e-3 of the output's largest magnitude (float rounding of k x
 // moves samples by ~1e-7 relative, and a rank or motion decision near its threshold by a little
