@@ -102,16 +102,38 @@ def tune(runner, found):
                 figures = [runner.run(scene, lv, METHODS[m] + ["--" + name, value])["rel_mse"]
                            for lv in levels for m in methods]
                 score[value][scene.name] = geomean(figures)
-        names = [s.name for s, _ in found]
-        overall = min(grid, key=lambda v: geomean([score[v][n] for n in names]))
-        rows = []
-        for held in names:
-            rest = [n for n in names if n != held]
-            picked = min(grid, key=lambda v: geomean([score[v][n] for n in rest]))
-            rows.append({"held_out": held, "picked": picked, "held_out_rel_mse": score[picked][held],
-                         "in_sample_value": overall, "in_sample_rel_mse": score[overall][held]})
+        overall, rows = leave_one_scene_out(score, grid, [s.name for s, _ in found], "rel_mse")
         report[name] = {"grid": grid, "methods": methods, "overall": overall, "rows": rows, "score": score}
     return report
+
+
+def leave_one_scene_out(score, grid, names, figure):
+    """score[value][scene] (lower is better): the value picked on every scene, and for each scene held
+    out the value picked on the others with the held-out scene's figure beside its in-sample one."""
+    overall = min(grid, key=lambda v: geomean([score[v][n] for n in names]))
+    rows = []
+    for held in names:
+        rest = [n for n in names if n != held]
+        picked = min(grid, key=lambda v: geomean([score[v][n] for n in rest]))
+        rows.append({"held_out": held, "picked": picked, "held_out_" + figure: score[picked][held],
+                     "in_sample_value": overall, "in_sample_" + figure: score[overall][held]})
+    return overall, rows
+
+
+def bench_arguments(description, doc):
+    """The command line the quality benches share: the CLI measured, the data folder, the document."""
+    p = argparse.ArgumentParser(description=description, formatter_class=argparse.RawDescriptionHelpFormatter)
+    p.add_argument("--cli", default=str(ROOT / "build" / "tools" / "statfilter"))
+    p.add_argument("--data", default=str(ROOT.parent / "shared" / "data"))
+    p.add_argument("--doc", default=str(ROOT / "docs" / doc))
+    return p
+
+
+def import_statfilter(cli):
+    """The Python package of the build being measured (staged beside its CLI)."""
+    sys.path.insert(0, str(Path(cli).resolve().parents[1] / "python"))
+    import statfilter
+    return statfilter
 
 
 def evaluate(runner, found, methods):
@@ -175,16 +197,12 @@ def tables(tuning, after, before, methods):
 
 
 def main():
-    p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    p.add_argument("--cli", default=str(ROOT / "build" / "tools" / "statfilter"))
+    p = bench_arguments(__doc__, "quality.md")
     p.add_argument("--before", help="a statfilter CLI built from an earlier commit, run side by side")
-    p.add_argument("--data", default=str(ROOT.parent / "shared" / "data"))
-    p.add_argument("--doc", default=str(ROOT / "docs" / "quality.md"))
     p.add_argument("--methods", default=",".join(METHODS), help="comma list of the methods and presets to score")
     p.add_argument("--no-tune", action="store_true", help="skip the leave-one-scene-out of the constants")
     args = p.parse_args()
-    sys.path.insert(0, str(Path(args.cli).resolve().parents[1] / "python"))
-    import statfilter  # noqa: E402 (the package of the build being measured)
+    statfilter = import_statfilter(args.cli)
 
     found = scenes(Path(args.data))
     if not found:

@@ -20,14 +20,13 @@ docs/preset_loso.json. Usage:
     python3 bench/preset_loso.py [--cli build/tools/statfilter] [--data ../shared/data] [--presets balanced,high]
 """
 
-import argparse
 import json
 import sys
 import tempfile
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from loso import ROOT, Runner, geomean, scenes  # noqa: E402
+from loso import Runner, bench_arguments, geomean, import_statfilter, leave_one_scene_out, scenes  # noqa: E402
 
 BEGIN, END = "<!-- results: written by bench/preset_loso.py -->", "<!-- end of results -->"
 
@@ -74,18 +73,6 @@ def sweep(runner, found, oidn, preset):
     return score
 
 
-def leave_one_out(score, grid):
-    names = sorted(next(iter(score.values())).keys())
-    overall = min(grid, key=lambda v: geomean([score[v][n] for n in names]))
-    rows = []
-    for held in names:
-        rest = [n for n in names if n != held]
-        picked = min(grid, key=lambda v: geomean([score[v][n] for n in rest]))
-        rows.append({"held_out": held, "picked": picked, "held_out_ratio": score[picked][held],
-                     "in_sample_value": overall, "in_sample_ratio": score[overall][held]})
-    return overall, rows
-
-
 def tables(report):
     text = ""
     for preset, constants in report.items():
@@ -103,14 +90,10 @@ def tables(report):
 
 
 def main():
-    p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    p.add_argument("--cli", default=str(ROOT / "build" / "tools" / "statfilter"))
-    p.add_argument("--data", default=str(ROOT.parent / "shared" / "data"))
-    p.add_argument("--doc", default=str(ROOT / "docs" / "preset_loso.md"))
+    p = bench_arguments(__doc__, "preset_loso.md")
     p.add_argument("--presets", default=",".join(PRESETS), help="comma list of the presets to sweep")
     args = p.parse_args()
-    sys.path.insert(0, str(Path(args.cli).resolve().parents[1] / "python"))
-    import statfilter  # noqa: E402  (the package staged beside the CLI)
+    statfilter = import_statfilter(args.cli)
 
     found = scenes(Path(args.data))
     if len(found) < 2:
@@ -123,7 +106,7 @@ def main():
             score = sweep(runner, found, oidn, preset)
             report[preset] = {}
             for name, (grid, default) in PRESETS[preset][1].items():
-                overall, rows = leave_one_out(score[name], grid)
+                overall, rows = leave_one_scene_out(score[name], grid, [s.name for s, _ in found], "ratio")
                 report[preset][name] = {"grid": grid, "default": default, "overall": overall, "rows": rows,
                                         "score": score[name]}
     doc = Path(args.doc)

@@ -17,7 +17,6 @@ to docs/quality_targets.json. About ten minutes on two cores. Usage:
     python3 bench/quality_targets.py [--cli build/tools/statfilter] [--data ../shared/data]
 """
 
-import argparse
 import json
 import math
 import sys
@@ -25,7 +24,7 @@ import tempfile
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from loso import ROOT, Runner, geomean, scenes  # noqa: E402
+from loso import Runner, bench_arguments, geomean, import_statfilter, scenes  # noqa: E402
 
 BEGIN, END = "<!-- results: written by bench/quality_targets.py -->", "<!-- end of results -->"
 
@@ -111,14 +110,10 @@ def write_doc(doc, rows, command):
 
 
 def main():
-    p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    p.add_argument("--cli", default=str(ROOT / "build" / "tools" / "statfilter"))
-    p.add_argument("--data", default=str(ROOT.parent / "shared" / "data"))
-    p.add_argument("--doc", default=str(ROOT / "docs" / "quality_targets.md"))
+    p = bench_arguments(__doc__, "quality_targets.md")
     p.add_argument("--configs", default=",".join(CONFIGS), help="comma list of the configurations to run")
     args = p.parse_args()
-    sys.path.insert(0, str(Path(args.cli).resolve().parents[1] / "python"))
-    import statfilter
+    statfilter = import_statfilter(args.cli)
     wanted = ["OIDN"] + [c for c in args.configs.split(",") if c != "OIDN"]
     rows = []
     with tempfile.TemporaryDirectory() as work:
