@@ -1,6 +1,7 @@
 #include "statfilter/motion.hpp"
 
 #include <algorithm>
+#include <array>
 #include <mutex>
 #include <cmath>
 #include <vector>
@@ -271,16 +272,20 @@ void TemporalChange::add_levels(const Sequence& band, int64_t y0) {
     // the band needed): one firefly (500 where the frame is 0.4) would otherwise move its frame's level
     // by several per cent and with it every score of that frame.
     const int64_t W = b.width, reach = W >= 5 ? 2 : 0;
-    std::vector<float> near(static_cast<size_t>(2 * reach + 1));
     for (int64_t f = 0; f < b.frames; ++f)
         for (int64_t y = 0; y < b.height; ++y) {
+            const float* row = lum[f].ptr<float>(static_cast<int>(y));
             double sum = 0;
             for (int64_t x = 0; x < W; ++x) {
-                for (int64_t k = -reach; k <= reach; ++k) {
-                    const int64_t xx = std::clamp<int64_t>(x + k, 0, W - 1);
-                    near[static_cast<size_t>(k + reach)] = lum[f].at<float>(static_cast<int>(y), static_cast<int>(xx));
+                // The five (or one) samples around x, the row's ends repeated, sorted by insertion.
+                std::array<float, 5> near{};
+                int64_t n = 0;
+                for (int64_t k = -reach; k <= reach; ++k, ++n) {
+                    const float v = row[std::clamp<int64_t>(x + k, 0, W - 1)];
+                    int64_t i = n;
+                    for (; i > 0 && near[static_cast<size_t>(i - 1)] > v; --i) near[static_cast<size_t>(i)] = near[static_cast<size_t>(i - 1)];
+                    near[static_cast<size_t>(i)] = v;
                 }
-                std::nth_element(near.begin(), near.begin() + reach, near.end());
                 sum += near[static_cast<size_t>(reach)];
             }
             row_levels_[static_cast<size_t>(f * shape_.height + y0 + y)] = sum;
