@@ -42,20 +42,34 @@ double diffusion_working_bytes(int64_t pixels, int64_t channels) {
     return sizeof(double) * (3.0 * P * static_cast<double>(channels) + 2.0 * P);
 }
 
-void diffuse_frame(float* pixels, int64_t width, int64_t height, int64_t channels, const DiffusionOptions& o) {
+namespace {
+
+void check_options(const DiffusionOptions& o) {
     if (!(o.dt > 0 && o.dt <= 0.25))
         throw Error(Status::InvalidArgument, "diffusion step dt must be in (0, 0.25] for a stable explicit scheme");
     if (!(o.k > 0)) throw Error(Status::InvalidArgument, "diffusion K must be > 0");
+}
+
+// The log domain's eps: a fraction of the mean |x| of the finite samples.
+double log_epsilon(const std::vector<double>& u, const DiffusionOptions& o) {
+    if (!o.log_domain) return 0;
+    double sum = 0;
+    int64_t finite = 0;
+    for (double v : u)
+        if (std::isfinite(v)) sum += std::fabs(v), ++finite;
+    return finite && sum > 0 ? o.epsilon * sum / finite : 1.0;
+}
+
+// The explicit steps on width x height pixels whose rows start `stride` pixels apart (a window of a
+// larger frame), written back to the rows and columns of `keep` (window coordinates); the frame's eps
+// and K measured here, or given (a window of a larger frame diffuses with its frame's).
+void diffuse(float* pixels, int64_t stride, int64_t width, int64_t height, int64_t channels, const PixelBox& keep,
+             const DiffusionOptions& o, const DiffusionScale* given) {
     const int64_t n = width * height * channels;
-    std::vector<double> u(pixels, pixels + n), next(static_cast<size_t>(n));
-    double eps = 0;
-    if (o.log_domain) {
-        double sum = 0;
-        int64_t finite = 0;
-        for (double v : u)
-            if (std::isfinite(v)) sum += std::fabs(v), ++finite;
-        eps = finite && sum > 0 ? o.epsilon * sum / finite : 1.0;
-    }
+    std::vector<double> u(static_cast<size_t>(n)), next(static_cast<size_t>(n));
+    for (int64_t y = 0; y < height; ++y)
+        std::copy_n(pixels + y * stride * channels, width * channels, u.begin() + y * width * channels);
+    const double eps = given ? given->eps : log_epsilon(u, o);
     // The values the conductances are computed on: the log image, or u itself.
     const bool separate = o.log_domain && o.conserve;
     std::vector<double> edges_of(separate ? static_cast<size_t>(n) : 0);
@@ -67,7 +81,7 @@ void diffuse_frame(float* pixels, int64_t width, int64_t height, int64_t channel
     else if (o.log_domain) to_log(u, u);
     const std::vector<double>& g = separate ? edges_of : u;
     const int64_t row = width * channels;
-    const double k = o.k * gradient_noise(g, width, height, channels);
+    const double k = given ? given->k : o.k * gradient_noise(g, width, height, channels);
     if (!(k > 0)) {  // a flat frame: nothing to diffuse
         return;
     }
@@ -90,36 +104,103 @@ void diffuse_frame(float* pixels, int64_t width, int64_t height, int64_t channel
             for (double& v : r) v = o.dt * (1.0 / std::sqrt(1.0 + v));
         }
     };
+    // One pixel's step: its value plus the flux from each neighbour present, west, east, north,
+    // south in that order (Neumann borders: a missing neighbour contributes no flux). The interior
+    // of a row takes the same sums without the border tests.
+    const auto step = [&](int64_t y, int64_t x) {
+        const double* c = &u[y * row + x * channels];
+        double* out = &next[y * row + x * channels];
+        for (int64_t ch = 0; ch < channels; ++ch) out[ch] = c[ch];
+        const double* neighbours[4] = {x > 0 ? c - channels : nullptr, x + 1 < width ? c + channels : nullptr,
+                                       y > 0 ? c - row : nullptr, y + 1 < height ? c + row : nullptr};
+        const double weights[4] = {x > 0 ? east[y * width + x - 1] : 0.0, east[y * width + x],
+                                   y > 0 ? south[(y - 1) * width + x] : 0.0, south[y * width + x]};
+        for (int i = 0; i < 4; ++i) {
+            if (!neighbours[i]) continue;
+            for (int64_t ch = 0; ch < channels; ++ch) out[ch] += weights[i] * (neighbours[i][ch] - c[ch]);
+        }
+    };
     for (int it = 0; it < o.iterations; ++it) {
         if (separate && it > 0) to_log(u, edges_of);
-        for (int64_t y = 0; y < height; ++y)
-            for (int64_t x = 0; x < width; ++x) {
-                const double* c = &g[y * row + x * channels];
-                east[y * width + x] = x + 1 < width ? squared(c, c + channels) : 0.0;
-                south[y * width + x] = y + 1 < height ? squared(c, c + row) : 0.0;
-            }
+        for (int64_t y = 0; y < height; ++y) {
+            const double* c = &g[y * row];
+            double* e = &east[y * width];
+            for (int64_t x = 0; x + 1 < width; ++x) e[x] = squared(c + x * channels, c + (x + 1) * channels);
+            e[width - 1] = 0.0;
+            double* so = &south[y * width];
+            if (y + 1 < height)
+                for (int64_t x = 0; x < width; ++x) so[x] = squared(c + x * channels, c + x * channels + row);
+            else
+                std::fill(so, so + width, 0.0);
+        }
         conductances(east);
         conductances(south);
-        for (int64_t y = 0; y < height; ++y)
-            for (int64_t x = 0; x < width; ++x) {
+        for (int64_t y = 0; y < height; ++y) {
+            if (y == 0 || y + 1 == height || width < 3) {
+                for (int64_t x = 0; x < width; ++x) step(y, x);
+                continue;
+            }
+            step(y, 0);
+            const double* we = &east[y * width];
+            const double* wn = &south[(y - 1) * width];
+            const double* ws = &south[y * width];
+            for (int64_t x = 1; x + 1 < width; ++x) {
                 const double* c = &u[y * row + x * channels];
                 double* out = &next[y * row + x * channels];
-                for (int64_t ch = 0; ch < channels; ++ch) out[ch] = c[ch];
-                // Neumann borders: a missing neighbour contributes no flux.
-                const double* neighbours[4] = {x > 0 ? c - channels : nullptr, x + 1 < width ? c + channels : nullptr,
-                                               y > 0 ? c - row : nullptr, y + 1 < height ? c + row : nullptr};
-                const double weights[4] = {x > 0 ? east[y * width + x - 1] : 0.0, east[y * width + x],
-                                           y > 0 ? south[(y - 1) * width + x] : 0.0, south[y * width + x]};
-                for (int i = 0; i < 4; ++i) {
-                    if (!neighbours[i]) continue;
-                    for (int64_t ch = 0; ch < channels; ++ch) out[ch] += weights[i] * (neighbours[i][ch] - c[ch]);
+                const double w0 = we[x - 1], w1 = we[x], w2 = wn[x], w3 = ws[x];
+                for (int64_t ch = 0; ch < channels; ++ch) {
+                    const double v = c[ch];
+                    double r = v;
+                    r += w0 * (c[ch - channels] - v);
+                    r += w1 * (c[ch + channels] - v);
+                    r += w2 * (c[ch - row] - v);
+                    r += w3 * (c[ch + row] - v);
+                    out[ch] = r;
                 }
             }
+            step(y, width - 1);
+        }
         u.swap(next);
     }
     constexpr double lim = 3.4028234663852886e38;
     if (o.log_domain && !separate) fast_math::signed_expm1(u.data(), u.size(), eps);
-    for (int64_t i = 0; i < n; ++i) pixels[i] = static_cast<float>(std::clamp(u[i], -lim, lim));
+    for (int64_t y = keep.y0; y < keep.y1; ++y)
+        for (int64_t i = (y * width + keep.x0) * channels, end = (y * width + keep.x1) * channels; i < end; ++i)
+            pixels[y * stride * channels + i - y * width * channels] = static_cast<float>(std::clamp(u[i], -lim, lim));
+}
+
+}  // namespace
+
+DiffusionScale diffusion_scale(const float* pixels, int64_t width, int64_t height, int64_t channels,
+                               const DiffusionOptions& o) {
+    check_options(o);
+    std::vector<double> g(pixels, pixels + width * height * channels);
+    DiffusionScale scale;
+    scale.eps = log_epsilon(g, o);
+    if (o.log_domain) fast_math::signed_log1p(g.data(), g.size(), 1.0 / scale.eps);
+    scale.k = o.k * gradient_noise(g, width, height, channels);
+    return scale;
+}
+
+void diffuse_frame(float* pixels, int64_t width, int64_t height, int64_t channels, const DiffusionOptions& o) {
+    check_options(o);
+    diffuse(pixels, width, width, height, channels, PixelBox{0, 0, width, height}, o, nullptr);
+}
+
+void diffuse_region(float* pixels, int64_t width, int64_t height, int64_t channels, const PixelBox& region,
+                    const DiffusionOptions& o) {
+    check_options(o);
+    if (region.x0 >= region.x1 || region.y0 >= region.y1) return;
+    if (region.x0 < 0 || region.y0 < 0 || region.x1 > width || region.y1 > height)
+        throw Error(Status::InvalidArgument, "diffuse_region: the region is not inside the frame");
+    const DiffusionScale scale = diffusion_scale(pixels, width, height, channels, o);
+    // Each step reaches one pixel further, so the region grown by the steps sees what the whole frame
+    // would; the window's own border (Neumann) stays in that margin.
+    const int64_t m = o.iterations;
+    const int64_t x0 = std::max<int64_t>(0, region.x0 - m), y0 = std::max<int64_t>(0, region.y0 - m);
+    const int64_t x1 = std::min(width, region.x1 + m), y1 = std::min(height, region.y1 + m);
+    diffuse(pixels + (y0 * width + x0) * channels, width, x1 - x0, y1 - y0, channels,
+            PixelBox{region.x0 - x0, region.y0 - y0, region.x1 - x0, region.y1 - y0}, o, &scale);
 }
 
 }  // namespace statfilter

@@ -186,12 +186,13 @@ private:
         const std::vector<int64_t> pixels = crossing_pixels(crossings);
         if (pixels.empty()) return 0.0;
         const DiffusionOptions options = diffusion_options(params());
+        const PixelBox box = crossing_box(pixels, s.width);
         const Progress none;
         parallel_for(s.frames, resolve_threads(0), [&](int64_t f) {
             std::vector<float> frame(static_cast<size_t>(P * C));  // input may be a strided view
             for (int64_t p = 0; p < P; ++p)
                 for (int64_t c = 0; c < C; ++c) frame[static_cast<size_t>(p * C + c)] = input.at(f, p / s.width, p % s.width, c);
-            diffuse_frame(frame.data(), s.width, s.height, C, options);
+            diffuse_region(frame.data(), s.width, s.height, C, box, options);
             blend_own_first_pass(pixels, crossings, frame.data(), C, &first_pass.at(f, 0, 0, 0));
         }, {none});
         return static_cast<double>(pixels.size()) / static_cast<double>(P);

@@ -261,6 +261,7 @@ void HybridStage::run(const FrameSource& source, const FrameConsumer& consume, c
             pixels.push_back(p);
         }
     const std::vector<int64_t> own_pixels = crossing_pixels(own_weight);  // inside the moving region
+    const PixelBox own_box = crossing_box(own_pixels, W);
 
     // The fireflies the statistics pass found, frame by frame: the temporal model never saw them, and
     // neither may the frame's own diffusion or the average along the flow, which read the input again
@@ -292,7 +293,7 @@ void HybridStage::run(const FrameSource& source, const FrameConsumer& consume, c
         if (!own_pixels.empty()) {
             std::vector<float> own(static_cast<size_t>(frame_samples));
             read_input(t, own.data());
-            diffuse_frame(own.data(), W, H, C, options_.single_frame);
+            diffuse_region(own.data(), W, H, C, own_box, options_.single_frame);
             blend_own_first_pass(own_pixels, own_weight, own.data(), C, estimate.data());
         }
         sums[static_cast<size_t>(t)] = positive_sum(estimate.data(), frame_samples);

@@ -141,6 +141,14 @@ std::vector<int64_t> crossing_pixels(const std::vector<float>& weight) {
     return pixels;
 }
 
+PixelBox crossing_box(const std::vector<int64_t>& pixels, int64_t width) {
+    PixelBox box;
+    if (pixels.empty() || width <= 0) return box;
+    box.x0 = width, box.y0 = pixels.front() / width, box.y1 = pixels.back() / width + 1;  // pixels in order
+    for (const int64_t p : pixels) box.x0 = std::min(box.x0, p % width), box.x1 = std::max(box.x1, p % width + 1);
+    return box;
+}
+
 void blend_own_first_pass(const std::vector<int64_t>& pixels, const std::vector<float>& weight, const float* own,
                           int64_t channels, float* first_pass) {
     for (const int64_t p : pixels) {

@@ -4,6 +4,7 @@
 #include <string>
 #include <vector>
 
+#include "statfilter/anisotropic_diffusion.hpp"
 #include "statfilter/filter.hpp"
 #include "statfilter/motion.hpp"
 
@@ -57,6 +58,9 @@ std::shared_ptr<Sequence> moving_weight(const Sequence& input, const Sequence& a
 // own diffusion (filters/hybrid_stage.hpp). The pixels with a weight above 0, in order.
 std::vector<float> crossing_weight(const Sequence& change, const Sequence& alpha);
 std::vector<int64_t> crossing_pixels(const std::vector<float>& weight);
+// The box around those pixels in a frame `width` wide: the frame's own diffusion is needed there only
+// (diffuse_region).
+PixelBox crossing_box(const std::vector<int64_t>& pixels, int64_t width);
 // first_pass += weight (own - first_pass) at those pixels: both frames contiguous (pixel, channel).
 void blend_own_first_pass(const std::vector<int64_t>& pixels, const std::vector<float>& weight, const float* own,
                           int64_t channels, float* first_pass);

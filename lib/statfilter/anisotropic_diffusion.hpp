@@ -31,6 +31,25 @@ DiffusionFlux parse_diffusion_flux(const std::string& name);
 
 // Diffuses width x height pixels of `channels` interleaved floats in place.
 void diffuse_frame(float* pixels, int64_t width, int64_t height, int64_t channels, const DiffusionOptions& options);
+
+// What a frame's diffusion measures on the whole frame: the log domain's eps and the edge threshold K
+// (options.k x the gradient noise; 0 for a flat frame, which is left as it is).
+struct DiffusionScale {
+    double eps = 0;
+    double k = 0;
+};
+DiffusionScale diffusion_scale(const float* pixels, int64_t width, int64_t height, int64_t channels,
+                               const DiffusionOptions& options);
+
+// Pixels [x0, x1) x [y0, y1) of a frame.
+struct PixelBox {
+    int64_t x0 = 0, y0 = 0, x1 = 0, y1 = 0;
+};
+// Diffuses only `region` of the frame in place, with the values diffuse_frame gives there (bit for
+// bit), working on the region grown by the iterations: for a filter that needs a frame's diffusion
+// at a few of its pixels. The pixels outside the region are left as they are.
+void diffuse_region(float* pixels, int64_t width, int64_t height, int64_t channels, const PixelBox& region,
+                    const DiffusionOptions& options);
 // The bytes diffuse_frame holds besides the frame itself, at most (the log domain with conserve):
 // the frame, the next step and the log values in double, and two conductances a pixel (the gradient
 // spread's sample, one double a pixel, is freed before they are made).
