@@ -93,6 +93,9 @@ public:
         if (!hybrid_streams(params(), names_guide_passes(*this, params()))) return nullptr;
         return std::make_unique<HybridStage>(hybrid_stage_options(params()));
     }
+    // In memory, besides input and output: the first pass, the average's transformed samples and
+    // guide, and the input with its fireflies replaced.
+    double resident_copies() const override { return 4; }
     Footprint footprint() const override {
         auto stage = stream_stage();
         return stage ? stage->footprint() : Footprint{};
@@ -130,7 +133,7 @@ protected:
             return;
         }
         if (params().get_string("motion_compensation") == "auto") {
-            run_motion_compensated(input, output, *weight, crossings, passes, progress);
+            run_motion_compensated(input, series.outliers(), output, *weight, crossings, passes, progress);
             return;
         }
         compute_beta(input, passes, params(), maps);
@@ -212,11 +215,22 @@ private:
 
     // I_T where nothing moves, the motion-compensated average where things move (`moving`, 1 = moving),
     // aligned along the renderer's vectors when given, else along optical flow.
-    void run_motion_compensated(const Sequence& input, Sequence& output, const Sequence& moving_map,
-                                const std::vector<float>& crossings, const GuidePasses& guides, const Progress& progress) {
+    // `fireflies`: what the statistics found in input (all channels), kept out of the frame's own
+    // diffusion and of the average along the flow as the temporal model keeps them out (else a
+    // firefly spreads to the frames aligned with its own, as in the streamed stage).
+    void run_motion_compensated(const Sequence& noisy, const std::vector<TemporalOutlier>& fireflies, Sequence& output,
+                                const Sequence& moving_map, const std::vector<float>& crossings, const GuidePasses& guides,
+                                const Progress& progress) {
         const Sequence* vectors = guides.vectors;
-        const Shape& s = input.shape();
-        run_temporal(input, output, {progress, 0.3, 0.15, "temporal"});
+        const Shape& s = noisy.shape();
+        run_temporal(noisy, output, {progress, 0.3, 0.15, "temporal"});
+        std::unique_ptr<Sequence> cleaned;
+        if (!fireflies.empty()) {
+            cleaned = std::make_unique<Sequence>(s);
+            cleaned->copy_samples_from(noisy);
+            replace_temporal_outliers(*cleaned, ChannelSelection::all(s), fireflies);
+        }
+        const Sequence& input = cleaned ? *cleaned : noisy;
         // The first pass the warped samples are checked against: I_T with the light diffusion pass.
         // The aligned averages then overwrite it in place (it is read in full first): one frame-sized
         // copy of the sequence less at production sizes.
