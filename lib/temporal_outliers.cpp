@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <tuple>
 
 #include "pipeline/parallel.hpp"
 #include "statfilter/nonfinite.hpp"
@@ -18,6 +19,96 @@ double median_of(std::vector<double>& v) {
     return m;
 }
 
+// Visits a pixel's neighbours among the 8 around p inside the frame (3 at a corner).
+template <class Visit>
+void for_each_neighbour(int64_t p, int64_t width, int64_t height, Visit&& visit) {
+    const int64_t y = p / width, x = p % width;
+    const bool up = y > 0, down = y + 1 < height, left = x > 0, right = x + 1 < width;
+    if (up) {
+        if (left) visit(p - width - 1);
+        visit(p - width);
+        if (right) visit(p - width + 1);
+    }
+    if (left) visit(p - 1);
+    if (right) visit(p + 1);
+    if (down) {
+        if (left) visit(p + width - 1);
+        visit(p + width);
+        if (right) visit(p + width + 1);
+    }
+}
+
+// The second largest of a sample's finite neighbours: `at(q)` is pixel q's value of that sample's
+// channel; the only one when there is one, the sample's own value with none (a one-pixel frame).
+template <class At>
+double second_brightest_neighbour(int64_t p, int64_t width, int64_t height, At&& at) {
+    double first = -HUGE_VAL, second = -HUGE_VAL;
+    int n = 0;
+    for_each_neighbour(p, width, height, [&](int64_t q) {
+        const double a = at(q);
+        if (!std::isfinite(a)) return;
+        ++n;
+        if (a > first) second = first, first = a;
+        else if (a > second) second = a;
+    });
+    return n == 0 ? at(p) : n == 1 ? first : second;
+}
+
+// out[(p - first) * C + c] = u's sample c of pixel p less the second brightest of its neighbours, for
+// pixels [first, first + count) of a frame; u holds pixels [u_first, ...) of that frame, C samples a
+// pixel, including the rows around the range. Interior pixels take the 8 neighbours without tests.
+void residuals_above_neighbours(const double* u, int64_t u_first, int64_t first, int64_t count, int64_t width,
+                                int64_t height, int64_t C, double* out) {
+    const int64_t offsets[8] = {-width - 1, -width, -width + 1, -1, 1, width - 1, width, width + 1};
+    for (int64_t p = first; p < first + count; ++p) {
+        const int64_t y = p / width, x = p % width;
+        const bool interior = y > 0 && y + 1 < height && x > 0 && x + 1 < width;
+        for (int64_t c = 0; c < C; ++c) {
+            const double* at = u + (p - u_first) * C + c;
+            const auto sample_of = [&](int64_t q) { return u[(q - u_first) * C + c]; };
+            double second;
+            if (interior) {
+                double first_v = -HUGE_VAL, second_v = -HUGE_VAL;
+                bool finite = true;
+                for (int64_t k = 0; k < 8; ++k) {
+                    const double a = at[offsets[k] * C];
+                    finite = finite && std::isfinite(a);
+                    second_v = std::max(second_v, std::min(first_v, a));
+                    first_v = std::max(first_v, a);
+                }
+                second = finite ? second_v : second_brightest_neighbour(p, width, height, sample_of);
+            } else {
+                second = second_brightest_neighbour(p, width, height, sample_of);
+            }
+            out[(p - first) * C + c] = *at - second;
+        }
+    }
+}
+
+// The median of a sample's finite neighbours (as above, the sample's own value with none).
+template <class At>
+double neighbour_median(int64_t p, int64_t width, int64_t height, At&& at) {
+    double v[8];
+    int n = 0;
+    for_each_neighbour(p, width, height, [&](int64_t q) {
+        const double a = at(q);
+        if (std::isfinite(a)) v[n++] = a;
+    });
+    if (n == 0) return at(p);
+    std::nth_element(v, v + n / 2, v + n);
+    double m = v[n / 2];
+    if (n % 2 == 0) m = 0.5 * (m + *std::max_element(v, v + n / 2));
+    return m;
+}
+
+// The floor of a set of robust deviations: their median over the series that vary.
+double deviation_floor(const std::vector<float>& deviation) {
+    std::vector<double> positive;
+    for (float d : deviation)
+        if (d > 0 && std::isfinite(d)) positive.push_back(d);
+    return positive.empty() ? 0.0 : median_of(positive);
+}
+
 }  // namespace
 
 std::vector<TemporalOutlier> find_temporal_outliers(const Sequence& seq, ChannelSelection group,
@@ -26,29 +117,41 @@ std::vector<TemporalOutlier> find_temporal_outliers(const Sequence& seq, Channel
     const Shape& s = seq.shape();
     const int64_t F = s.frames, C = group.count, P = s.pixels(), N = P * C;
     if (!(o.z > 0) || F < 3 || N == 0) return found;
-    // Each series' temporal median and robust deviation, transformed, tile by tile (tiles in parallel).
-    std::vector<float> median(static_cast<size_t>(N)), deviation(static_cast<size_t>(N));
-    const std::vector<PixelRange> tiles = make_pixel_tiles(s, C, o.budget_bytes / resolve_threads(0), 1);
+    // Each series' temporal median and robust deviation, transformed, tile by tile (tiles in parallel);
+    // the same of its residual above its neighbours (the sample less the second brightest of its 8
+    // neighbours: a lone spike stands out of it, the corner of a small bright object does not), so
+    // the tile is read with a row and a pixel on each side.
+    std::vector<float> median(static_cast<size_t>(N)), deviation(median.size());
+    std::vector<float> residual_median(median.size()), residual_deviation(median.size());
+    const std::vector<PixelRange> tiles = make_pixel_tiles(s, C, o.budget_bytes / resolve_threads(0), 2);
     parallel_for(static_cast<int64_t>(tiles.size()), resolve_threads(0), [&](int64_t t) {
         const PixelRange range = tiles[static_cast<size_t>(t)];
-        const int64_t n = range.size() * C;
-        std::vector<double> tile(static_cast<size_t>(F * n)), series(static_cast<size_t>(F));
-        gather_tile(seq, range, group, tile.data());
-        if (o.repair_nonfinite) repair_nonfinite(tile.data(), F, n);
+        const PixelRange wide{std::max<int64_t>(0, range.begin - s.width - 1), std::min(P, range.end + s.width + 1)};
+        const int64_t n = range.size() * C, wn = wide.size() * C, skip = (range.begin - wide.begin) * C;
+        std::vector<double> tile(static_cast<size_t>(F * wn)), residuals(static_cast<size_t>(F * n));
+        std::vector<double> series(static_cast<size_t>(F)), residual(series.size());
+        gather_tile(seq, wide, group, tile.data());
+        if (o.repair_nonfinite) repair_nonfinite(tile.data(), F, wn);
         forward_transform(o.transform, o.scale, tile.data(), tile.size());
+        for (int64_t f = 0; f < F; ++f)
+            residuals_above_neighbours(tile.data() + f * wn, wide.begin, range.begin, range.size(), s.width, s.height, C,
+                                       residuals.data() + f * n);
         for (int64_t j = 0; j < n; ++j) {
-            for (int64_t f = 0; f < F; ++f) series[f] = tile[f * n + j];
-            const double m = median_of(series);
-            for (double& v : series) v = std::fabs(v - m);
+            for (int64_t f = 0; f < F; ++f) {
+                series[f] = tile[f * wn + skip + j];
+                residual[f] = residuals[f * n + j];
+            }
             const int64_t g = range.begin * C + j;
-            median[g] = static_cast<float>(m);
-            deviation[g] = static_cast<float>(1.4826 * median_of(series));
+            for (auto [values, m_out, d_out] : {std::tuple{&series, &median, &deviation},
+                                                std::tuple{&residual, &residual_median, &residual_deviation}}) {
+                const double m = median_of(*values);
+                for (double& v : *values) v = std::fabs(v - m);
+                (*m_out)[g] = static_cast<float>(m);
+                (*d_out)[g] = static_cast<float>(1.4826 * median_of(*values));
+            }
         }
     }, {Progress(), 0, 1, "fireflies"});
-    std::vector<double> positive;
-    for (float d : deviation)
-        if (d > 0 && std::isfinite(d)) positive.push_back(d);
-    const double floor = positive.empty() ? 0.0 : median_of(positive);
+    const double floor = deviation_floor(deviation), residual_floor = deviation_floor(residual_deviation);
     if (!(floor > 0)) return found;  // (nearly) every series constant: nothing to measure against
     // Frame by frame (frames in parallel): each pixel's largest deviation over the group's channels,
     // then isolation.
@@ -64,19 +167,23 @@ std::vector<TemporalOutlier> find_temporal_outliers(const Sequence& seq, Channel
             for (int64_t c = 0; c < C; ++c)
                 transformed[static_cast<size_t>(p * C + c)] = frame[static_cast<size_t>(p * s.channels + group.first + c)];
         forward_transform(o.transform, o.scale, transformed.data(), transformed.size());
-        const auto z_of = [&](int64_t g) {
+        // Each sample's score: how far above its series it is, as a value or as a residual above its neighbours.
+        // The residual's series stays put where the image moves under the pixel (a camera pan widens
+        // a series' own spread until no spike stands out of it), and still-scene fireflies score on both.
+        std::vector<double> residuals(static_cast<size_t>(N));
+        residuals_above_neighbours(transformed.data(), 0, 0, P, s.width, s.height, C, residuals.data());
+        std::vector<float> residual_z(static_cast<size_t>(N));
+        for (int64_t g = 0; g < N; ++g)
+            residual_z[g] = residual_floor > 0 ? static_cast<float>((residuals[g] - residual_median[g]) /
+                                                                    std::max<double>(residual_deviation[g], residual_floor))
+                                               : 0.0f;
+        const auto value_z = [&](int64_t g) {
             return (std::fabs(transformed[static_cast<size_t>(g)]) - std::fabs(median[g])) / std::max<double>(deviation[g], floor);
         };
-        for (int64_t p = 0; p < P; ++p) {
-            float worst = 0;
-            for (int64_t c = 0; c < C; ++c) {
-                if (!std::isfinite(frame[static_cast<size_t>(p * s.channels + group.first + c)])) continue;
-                worst = std::max(worst, static_cast<float>(z_of(p * C + c)));
-            }
-            score[p] = worst;
-        }
-        for (int64_t p = 0; p < P; ++p) {
-            if (!(score[p] > o.z)) continue;
+        // Each rule on its own: a pixel's largest score over the group's channels, then isolation among
+        // the scores of the same rule (under a pan every value scores high, the residuals do not).
+        const auto isolated_above = [&](const std::vector<float>& score, int64_t p) {
+            if (!(score[p] > o.z)) return false;
             const int64_t y = p / s.width, x = p % s.width;
             int neighbours = 0;
             for (int64_t dy = -1; dy <= 1; ++dy)
@@ -85,13 +192,40 @@ std::vector<TemporalOutlier> find_temporal_outliers(const Sequence& seq, Channel
                     if ((dy || dx) && yy >= 0 && yy < s.height && xx >= 0 && xx < s.width && score[yy * s.width + xx] > half)
                         ++neighbours;
                 }
-            if (neighbours > 1) continue;  // part of something that moves or changes: real
+            return neighbours <= 1;  // else part of something that moves or changes: real
+        };
+        std::vector<float> residual_score(static_cast<size_t>(P));
+        const auto finite = [&](int64_t p, int64_t c) {
+            return std::isfinite(frame[static_cast<size_t>(p * s.channels + group.first + c)]);
+        };
+        for (int64_t p = 0; p < P; ++p) {
+            float worst = 0, worst_residual = 0;
+            for (int64_t c = 0; c < C; ++c) {
+                if (!finite(p, c)) continue;
+                worst = std::max(worst, static_cast<float>(value_z(p * C + c)));
+                worst_residual = std::max(worst_residual, residual_z[static_cast<size_t>(p * C + c)]);
+            }
+            score[p] = worst;
+            residual_score[p] = worst_residual;
+        }
+        for (int64_t p = 0; p < P; ++p) {
+            const bool by_value = isolated_above(score, p), by_residual = isolated_above(residual_score, p);
+            if (!by_value && !by_residual) continue;
             for (int64_t c = 0; c < C; ++c) {
                 const int64_t g = p * C + c;
-                if (!std::isfinite(frame[static_cast<size_t>(p * s.channels + group.first + c)])) continue;
-                if (!(z_of(g) > o.z)) continue;
+                if (!finite(p, c)) continue;
+                // Above its own series: its series' median. Only above its neighbours (the image moves
+                // under it): its neighbours' median in this frame.
                 double back = median[g];
-                inverse_transform(o.transform, o.scale, &back, 1);
+                if (by_value && value_z(g) > o.z) {
+                    inverse_transform(o.transform, o.scale, &back, 1);
+                } else if (by_residual && residual_z[static_cast<size_t>(g)] > o.z) {
+                    const float* px = frame.data() + group.first + c;
+                    back = neighbour_median(p, s.width, s.height,
+                                            [&](int64_t q) { return static_cast<double>(px[q * s.channels]); });
+                } else {
+                    continue;
+                }
                 out.push_back({f, g, back});
             }
         }

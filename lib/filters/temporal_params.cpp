@@ -17,8 +17,9 @@ std::vector<ParamSpec> temporal_common_params() {
                     "a basis, so results scale with the input; 0: s = 1 in the input's units (not scale-invariant)"),
         float_param("firefly_z", "8", 0, 1e6,
                     "a sample above its pixel's temporal median by more than this many robust deviations "
-                    "(of log(1 + x / s)), alone among its neighbours, is a firefly: replaced by the median "
-                    "before the temporal model; 0 = off"),
+                    "(of log(1 + x / s)), or above its brightest neighbours by that many deviations of its "
+                    "pixel's residual, alone among its neighbours, is a firefly: replaced by the median (of "
+                    "its series, or of its neighbours) before the temporal model; 0 = off"),
         int_param("keep_mean", "1", 0, 1,
                   "1: the inverse transform keeps each series' linear mean (no Jensen bias) and a series "
                   "without negative samples non-negative, and a prefilter's output is scaled to the noisy shot's "
