@@ -168,8 +168,9 @@ std::vector<TemporalOutlier> find_temporal_outliers(const Sequence& seq, Channel
                 transformed[static_cast<size_t>(p * C + c)] = frame[static_cast<size_t>(p * s.channels + group.first + c)];
         forward_transform(o.transform, o.scale, transformed.data(), transformed.size());
         // Each sample's score: how far above its series it is, as a value or as a residual above its neighbours.
-        // The residual's series stays put where the image moves under the pixel (a camera pan widens
-        // a series' own spread until no spike stands out of it), and still-scene fireflies score on both.
+        // The residuals stay put where the image moves under the pixels (a camera pan makes a spike's
+        // neighbours outliers in time too, and its series' median another surface's level); still-scene
+        // fireflies score on both.
         std::vector<double> residuals(static_cast<size_t>(N));
         residuals_above_neighbours(transformed.data(), 0, 0, P, s.width, s.height, C, residuals.data());
         std::vector<float> residual_z(static_cast<size_t>(N));

@@ -9,10 +9,11 @@
 // of all series so a constant series is not judged by zero); it is a firefly only when isolated in
 // its frame: at most one of its 8 neighbours exceeds half that threshold. A light switching on moves
 // every pixel's median or deviation, a moving object makes its neighbours outliers too: both stay.
-// Where the image moves under a pixel its series' spread hides spikes, so the same test is also made
-// on the sample's residual above its neighbours (less the second brightest of its 8 in the frame),
-// against that residual's temporal median and deviation: such a sample is replaced by its
-// neighbours' median in its frame.
+// Where the image moves under the pixels a spike's neighbours are outliers in time too (so it is not
+// alone) and its series' median is another surface's, so the same test is also made on the sample's
+// residual above its neighbours (less the second brightest of its 8 in the frame), against that
+// residual's temporal median and deviation, isolated among the residual scores: such a sample is
+// replaced by its neighbours' median in its frame.
 #pragma once
 #include <cstdint>
 #include <vector>

@@ -137,9 +137,10 @@ TEST(Fireflies, DoNotSpreadWhereTheHybridAlignsFrames) {
     }
 }
 
-// Under a camera pan every pixel's series sweeps across the texture, and its own temporal spread hides
-// a spike several times the light; measured against its brightest neighbours in its frame, the
-// spike still stands out of that residual's series, and it is put back to its neighbours' level.
+// Under a camera pan every pixel's series sweeps across the texture: its median and spread are the
+// texture's, not the noise's, and a spike several times the light hides in them. Measured against
+// its brightest neighbours in its frame, the spike still stands out of that residual's series, and
+// it is put back to its neighbours' level.
 // (Before, only the value's own series was judged: none of these was found.)
 TEST(Fireflies, AreFoundUnderACameraPan) {
     const Shape s{24, 48, 64, 3};
