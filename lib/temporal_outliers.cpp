@@ -159,7 +159,11 @@ std::vector<TemporalOutlier> find_temporal_outliers(const Sequence& seq, Channel
     // the tile is read with a row and a pixel on each side.
     std::vector<float> median(static_cast<size_t>(N)), deviation(median.size());
     std::vector<float> residual_median(median.size()), residual_deviation(median.size());
-    const std::vector<PixelRange> tiles = make_pixel_tiles(s, C, o.budget_bytes / resolve_threads(0), 2);
+    // A tile's buffers: its samples with the rows around it, and its residuals; the rows around it
+    // come out of the budget first, so a tile of a wide frame stays within it.
+    const double halo_bytes = static_cast<double>(2 * s.width + 2) * static_cast<double>(F * C) * sizeof(double);
+    const std::vector<PixelRange> tiles =
+        make_pixel_tiles(s, C, std::max(0.0, o.budget_bytes / resolve_threads(0) - halo_bytes), 2);
     parallel_for(static_cast<int64_t>(tiles.size()), resolve_threads(0), [&](int64_t t) {
         const PixelRange range = tiles[static_cast<size_t>(t)];
         const PixelRange wide{std::max<int64_t>(0, range.begin - s.width - 1), std::min(P, range.end + s.width + 1)};
