@@ -215,7 +215,8 @@ void combine_max(Sequence& into, const Sequence& other) {
 TemporalChange::TemporalChange(const Shape& shape, const TemporalChangeOptions& o)
     : shape_(shape), o_(o), row_levels_(static_cast<size_t>(shape.frames * shape.height), 0.0),
       sigma_(static_cast<size_t>(shape.pixels()), 0.0), centre_(sigma_.size(), 0.0),
-      map_(std::make_shared<Sequence>(Shape{1, shape.height, shape.width, 1})) {
+      map_(std::make_shared<Sequence>(Shape{1, shape.height, shape.width, 1})),
+      departures_(static_cast<size_t>(shape.pixels()), 0) {
     map_->channel_names()[0] = "moving";
 }
 
@@ -225,39 +226,52 @@ namespace {
 
 const Progress kNoProgress;
 
-// Each frame's luminance (channel mean, non-negative, 0 where not finite) as float images.
+// One frame's luminance (channel mean, non-negative, 0 where not finite) as a float image; `at` gives
+// sample c of pixel p.
+template <typename At>
+cv::Mat luminance_image(int64_t width, int64_t height, int64_t channels, const At& at) {
+    cv::Mat lum(static_cast<int>(height), static_cast<int>(width), CV_32F);
+    for (int64_t p = 0; p < width * height; ++p) {
+        double sum = 0;
+        for (int64_t c = 0; c < channels; ++c) sum += at(p, c);
+        const double l = std::isfinite(sum) ? std::max(0.0, sum / static_cast<double>(channels)) : 0.0;
+        lum.at<float>(static_cast<int>(p)) = static_cast<float>(l);
+    }
+    return lum;
+}
+
+// Each frame's luminance as float images.
 std::vector<cv::Mat> luminance(const Sequence& band) {
     const Shape& b = band.shape();
     std::vector<cv::Mat> lum(static_cast<size_t>(b.frames));
     parallel_for(b.frames, resolve_threads(0), [&](int64_t f) {
-        lum[f] = cv::Mat(static_cast<int>(b.height), static_cast<int>(b.width), CV_32F);
-        for (int64_t p = 0; p < b.pixels(); ++p) {
-            double sum = 0;
-            for (int64_t c = 0; c < b.channels; ++c) sum += band.at(f, p / b.width, p % b.width, c);
-            const double l = std::isfinite(sum) ? std::max(0.0, sum / static_cast<double>(b.channels)) : 0.0;
-            lum[f].at<float>(static_cast<int>(p)) = static_cast<float>(l);
-        }
+        lum[f] = luminance_image(b.width, b.height, b.channels,
+                                 [&](int64_t p, int64_t c) { return band.at(f, p / b.width, p % b.width, c); });
     }, {kNoProgress});
     return lum;
 }
 
-// Luminance over each frame's mean level, median-filtered (5 x 5), in log(1 + l / m).
+// A luminance image over its frame's mean level (gain / unit), median-filtered (5 x 5), in
+// log(1 + l / m), in place.
+void to_scores_domain(cv::Mat& lum, double gain, double unit, bool blur) {
+    if (blur) cv::medianBlur(lum, lum, 5);
+    // In blocks through fast_math's vectorised log1p (the luminance is >= 0 here).
+    float* v = lum.ptr<float>();
+    const auto total = static_cast<int64_t>(lum.total());
+    constexpr int64_t block = 1024;
+    double x[block];
+    for (int64_t p0 = 0; p0 < total; p0 += block) {
+        const int64_t m = std::min(block, total - p0);
+        for (int64_t i = 0; i < m; ++i) x[i] = gain * v[p0 + i] / unit;
+        fast_math::signed_log1p(x, static_cast<size_t>(m), 1.0);
+        for (int64_t i = 0; i < m; ++i) v[p0 + i] = static_cast<float>(x[i]);
+    }
+}
+
 std::vector<cv::Mat> scores_domain(const Sequence& band, const std::vector<double>& gain, double unit, bool blur) {
     std::vector<cv::Mat> lum = luminance(band);
-    parallel_for(static_cast<int64_t>(lum.size()), resolve_threads(0), [&](int64_t f) {
-        if (blur) cv::medianBlur(lum[f], lum[f], 5);
-        // In blocks through fast_math's vectorised log1p (the luminance is >= 0 here).
-        float* v = lum[f].ptr<float>();
-        const auto total = static_cast<int64_t>(lum[f].total());
-        constexpr int64_t block = 1024;
-        double x[block];
-        for (int64_t p0 = 0; p0 < total; p0 += block) {
-            const int64_t m = std::min(block, total - p0);
-            for (int64_t i = 0; i < m; ++i) x[i] = gain[f] * v[p0 + i] / unit;
-            fast_math::signed_log1p(x, static_cast<size_t>(m), 1.0);
-            for (int64_t i = 0; i < m; ++i) v[p0 + i] = static_cast<float>(x[i]);
-        }
-    }, {kNoProgress});
+    parallel_for(static_cast<int64_t>(lum.size()), resolve_threads(0),
+                 [&](int64_t f) { to_scores_domain(lum[f], gain[f], unit, blur); }, {kNoProgress});
     return lum;
 }
 
@@ -342,6 +356,7 @@ void TemporalChange::add_scores(const Sequence& band, int64_t y0, int64_t y1, in
     // Frames in parallel, each thread its own peak; the maximum does not depend on the order.
     cv::Mat peak = cv::Mat::zeros(static_cast<int>(rows), static_cast<int>(W), CV_32F);
     std::mutex peak_mutex;
+    const double threshold2 = o_.z_threshold * o_.z_threshold;
     parallel_for(F, resolve_threads(0), [&](int64_t f) {
         cv::Mat z2(static_cast<int>(rows), static_cast<int>(W), CV_32F);
         for (int64_t r = 0; r < rows; ++r)
@@ -354,22 +369,55 @@ void TemporalChange::add_scores(const Sequence& band, int64_t y0, int64_t y1, in
         if (shape_.width >= 5 && shape_.height >= 5) cv::medianBlur(z2, z2, 5);
         std::lock_guard<std::mutex> lock(peak_mutex);
         peak = cv::max(peak, z2);
+        for (int64_t y = y0; y < y1; ++y)
+            for (int64_t x = 0; x < W; ++x)
+                departures_[static_cast<size_t>(y * W + x)] += z2.at<float>(static_cast<int>(y - first), static_cast<int>(x)) > threshold2;
     }, {kNoProgress});
-    const double threshold2 = o_.z_threshold * o_.z_threshold;
     for (int64_t y = y0; y < y1; ++y)
         for (int64_t x = 0; x < W; ++x)
             map_->at(0, y, x, 0) = peak.at<float>(static_cast<int>(y - first), static_cast<int>(x)) > threshold2 ? 1.0f : 0.0f;
 }
 
-std::shared_ptr<Sequence> motion_from_temporal_change(const Sequence& input, const TemporalChangeOptions& o) {
+void TemporalChange::model_misses(int64_t f, const float* frame, const float* model, std::vector<uint8_t>& misses) const {
+    const int64_t W = shape_.width, H = shape_.height, C = shape_.channels, P = shape_.pixels();
+    misses.assign(static_cast<size_t>(P), 0);
+    if (!active() || !(unit_ > 0)) return;
+    const bool blur = W >= 5 && H >= 5;
+    const auto domain = [&](const float* pixels) {
+        cv::Mat lum = luminance_image(W, H, C, [&](int64_t p, int64_t c) { return pixels[p * C + c]; });
+        to_scores_domain(lum, gain_[static_cast<size_t>(f)], unit_, blur);
+        return lum;
+    };
+    const cv::Mat a = domain(frame), b = domain(model);
+    // The squared scores of the frame against the pixel's temporal median (the test's own: an event
+    // in this frame) and against the model, each median-filtered like the test's.
+    cv::Mat event(static_cast<int>(H), static_cast<int>(W), CV_32F), miss(event.size(), CV_32F);
+    for (int64_t p = 0; p < P; ++p) {
+        const double sd = std::max(sigma_[static_cast<size_t>(p)], floor_);
+        const double v = a.at<float>(static_cast<int>(p));
+        const double ze = (v - centre_[static_cast<size_t>(p)]) / sd, zm = (v - b.at<float>(static_cast<int>(p))) / sd;
+        event.at<float>(static_cast<int>(p)) = static_cast<float>(std::min(ze * ze, 1e30));
+        miss.at<float>(static_cast<int>(p)) = static_cast<float>(std::min(zm * zm, 1e30));
+    }
+    if (blur) cv::medianBlur(event, event, 5), cv::medianBlur(miss, miss, 5);
+    const double threshold2 = o_.z_threshold * o_.z_threshold;
+    for (int64_t p = 0; p < P; ++p)
+        misses[static_cast<size_t>(p)] = event.at<float>(static_cast<int>(p)) > threshold2 && miss.at<float>(static_cast<int>(p)) > threshold2;
+}
+
+std::unique_ptr<TemporalChange> temporal_change_test(const Sequence& input, const TemporalChangeOptions& o) {
     const Shape& s = input.shape();
-    TemporalChange change(s, o);
-    change.add_levels(input, 0);
-    change.finish_levels();
-    change.add_noise(input, 0, s.height, 0);
-    change.finish_noise();
-    change.add_scores(input, 0, s.height, 0);
-    return change.map();
+    auto change = std::make_unique<TemporalChange>(s, o);
+    change->add_levels(input, 0);
+    change->finish_levels();
+    change->add_noise(input, 0, s.height, 0);
+    change->finish_noise();
+    change->add_scores(input, 0, s.height, 0);
+    return change;
+}
+
+std::shared_ptr<Sequence> motion_from_temporal_change(const Sequence& input, const TemporalChangeOptions& o) {
+    return temporal_change_test(input, o)->map();
 }
 
 std::shared_ptr<Sequence> motion_from_vectors(const Sequence& vectors, double min_drift) {

@@ -23,6 +23,7 @@
 #include "filters/hybrid_stage.hpp"
 #include "filters/low_rank_reconstruction.hpp"
 #include "filters/motion_analysis.hpp"
+#include "filters/own_first_pass.hpp"
 #include "filters/temporal_params.hpp"
 #include "pipeline/parallel.hpp"
 #include "statfilter/anisotropic_diffusion.hpp"
@@ -118,7 +119,8 @@ protected:
         maps.alpha = compute_alpha(series, basis, params(), {progress, 0.2, 0.1, "motion"});
         // Where things move: alpha, the temporal-change test and the renderer's vectors when given.
         std::vector<float> crossings;
-        const auto weight = moving_weight(input, *maps.alpha, passes, params(), &crossings);
+        std::unique_ptr<TemporalChange> change;
+        const auto weight = moving_weight(input, *maps.alpha, passes, params(), &crossings, &change);
         const double moving = mean_of_map(*weight);
         mutable_results().set("motion_fraction", moving);
         mutable_results().set_image("alpha", maps.alpha);
@@ -133,7 +135,8 @@ protected:
             return;
         }
         if (params().get_string("motion_compensation") == "auto") {
-            run_motion_compensated(input, series.outliers(), output, *weight, crossings, passes, progress);
+            run_motion_compensated(input, series.outliers(), output, *weight, std::move(crossings), change.get(), passes,
+                                   progress);
             return;
         }
         compute_beta(input, passes, params(), maps);
@@ -179,26 +182,26 @@ protected:
     }
 
 private:
-    // Where the change test saw motion alpha did not (crossings > 0, always inside the moving region),
-    // the first pass (contiguous: made here) becomes the frame's own diffusion, as the streamed stage
-    // does (filters/hybrid_stage.hpp): I_T holds a ghost of what crossed there. Returns the share of
-    // pixels it applies to.
-    double own_first_pass(const Sequence& input, const std::vector<float>& crossings, Sequence& first_pass) const {
+    // The frame's own diffusion as the first pass (contiguous: made here) where the streamed stage
+    // puts it (filters/own_first_pass.hpp), I_T being `model`. Returns the share of pixel-frames.
+    double own_first_pass(const Sequence& input, const Sequence& model, const OwnFirstPass& own, Sequence& first_pass) const {
         const Shape& s = input.shape();
         const int64_t P = s.pixels(), C = s.channels;
-        const std::vector<int64_t> pixels = crossing_pixels(crossings);
-        if (pixels.empty()) return 0.0;
-        const DiffusionOptions options = diffusion_options(params());
-        const PixelBox box = crossing_box(pixels, s.width);
+        if (own.never()) return 0.0;
+        std::vector<int64_t> counts(static_cast<size_t>(s.frames), 0);
         const Progress none;
         parallel_for(s.frames, resolve_threads(0), [&](int64_t f) {
-            std::vector<float> frame(static_cast<size_t>(P * C));  // input may be a strided view
+            std::vector<float> frame(static_cast<size_t>(P * C)), temporal(frame.size());  // views may be strided
             for (int64_t p = 0; p < P; ++p)
-                for (int64_t c = 0; c < C; ++c) frame[static_cast<size_t>(p * C + c)] = input.at(f, p / s.width, p % s.width, c);
-            diffuse_region(frame.data(), s.width, s.height, C, box, options);
-            blend_own_first_pass(pixels, crossings, frame.data(), C, &first_pass.at(f, 0, 0, 0));
+                for (int64_t c = 0; c < C; ++c) {
+                    frame[static_cast<size_t>(p * C + c)] = input.at(f, p / s.width, p % s.width, c);
+                    temporal[static_cast<size_t>(p * C + c)] = model.at(f, p / s.width, p % s.width, c);
+                }
+            counts[static_cast<size_t>(f)] = own.apply(f, frame.data(), temporal.data(), &first_pass.at(f, 0, 0, 0));
         }, {none});
-        return static_cast<double>(pixels.size()) / static_cast<double>(P);
+        double share = 0;
+        for (const int64_t n : counts) share += static_cast<double>(n) / static_cast<double>(s.frames * P);
+        return share;
     }
 
     // I_T, the global temporal filter (`temporal`), into output; its rank results as temporal_*.
@@ -219,8 +222,8 @@ private:
     // diffusion and of the average along the flow as the temporal model keeps them out (else a
     // firefly spreads to the frames aligned with its own, as in the streamed stage).
     void run_motion_compensated(const Sequence& noisy, const std::vector<TemporalOutlier>& fireflies, Sequence& output,
-                                const Sequence& moving_map, const std::vector<float>& crossings, const GuidePasses& guides,
-                                const Progress& progress) {
+                                const Sequence& moving_map, std::vector<float> crossings, const TemporalChange* change,
+                                const GuidePasses& guides, const Progress& progress) {
         const Sequence* vectors = guides.vectors;
         const Shape& s = noisy.shape();
         run_temporal(noisy, output, {progress, 0.3, 0.15, "temporal"});
@@ -241,10 +244,6 @@ private:
             progress.report(0.45 + 0.05 * f, "first pass");
             return true;
         }));
-        const double own = own_first_pass(input, crossings, aligned);
-        mutable_results().set("own_first_pass_fraction", own);
-        // The passes guide the flow; with the renderer's vectors there is no flow to guide.
-        const auto passes = guides.surfaces() && !vectors ? make_pass_guide(guides.albedo, guides.normal) : nullptr;
         // The moving weight, grown by a max filter: alpha is pooled over a box and ramps, so
         // along the rim of a moving region the temporal filter would keep part of the weight, and
         // there its per-pixel ranks keep the motion's noise (dark and bright speckles at 4 spp).
@@ -256,6 +255,11 @@ private:
         std::vector<uint8_t> moving(static_cast<size_t>(s.pixels()));
         for (int64_t p = 0; p < s.pixels(); ++p)
             moving[static_cast<size_t>(p)] = weight.at<float>(static_cast<int>(p / s.width), static_cast<int>(p % s.width)) > 0.0f;
+        const OwnFirstPass own(s, std::move(crossings), change, moving, params().get_int("mc_half_width"),
+                               diffusion_options(params()));
+        mutable_results().set("own_first_pass_fraction", own_first_pass(input, output, own, aligned));
+        // The passes guide the flow; with the renderer's vectors there is no flow to guide.
+        const auto passes = guides.surfaces() && !vectors ? make_pass_guide(guides.albedo, guides.normal) : nullptr;
         AlignedAverageOptions options;
         options.half_width = static_cast<int>(params().get_int("mc_half_width"));
         options.sigma = params().get_float("mc_sigma");

@@ -9,6 +9,7 @@
 #include "filters/builtin_filters.hpp"
 #include "filters/frame_stages.hpp"
 #include "filters/motion_analysis.hpp"
+#include "filters/own_first_pass.hpp"
 #include "filters/temporal_params.hpp"
 #include "pipeline/band_view.hpp"
 #include "pipeline/frame_stage_pool.hpp"
@@ -91,25 +92,26 @@ Footprint HybridStage::footprint() const {
 }
 
 double HybridStage::analysis_bytes(const Shape& s) const {
-    // alpha's energies and tails, the change test's centres and noise (double), three float maps, and
-    // the halo rows of a band.
+    // alpha's energies and tails, the change test's centres and noise (double) and departures, three
+    // float maps, and the halo rows of a band.
     const double P = static_cast<double>(s.pixels());
-    return P * (4 * sizeof(double) + 3 * sizeof(float) + 2) +
+    return P * (4 * sizeof(double) + 3 * sizeof(float) + 2 + sizeof(uint32_t)) +
            2.0 * TemporalChange::kHalo * s.frames * s.width * s.channels * (sizeof(float) + sizeof(double));
 }
 
 double HybridStage::maps_bytes(const Shape& s) {
-    // After the analysis: alpha (a result), the moving weight, its grown copy and the own first pass'
-    // weight (float), the moving mask and the indices of the moving pixels and of those with their own
-    // first pass (at most every pixel).
-    return static_cast<double>(s.pixels()) * (4 * sizeof(float) + 1 + 2 * sizeof(int64_t));
+    // After the analysis: alpha (a result), the moving weight, its grown copy, the moving mask and the
+    // indices of the moving pixels; the own first pass' weights, masks and indices, and the change
+    // test it keeps (noise and centre per pixel, double, and its departures).
+    return static_cast<double>(s.pixels()) * (3 * sizeof(float) + 1 + sizeof(int64_t) + OwnFirstPass::held_bytes_per_pixel() +
+                                              2 * sizeof(double) + sizeof(uint32_t) + sizeof(float));
 }
 
 double HybridStage::first_pass_bytes(const Shape& s, int threads) const {
     // Per thread while I_T is rebuilt: the first pass' copy of the frame, the noisy frame diffused on
-    // its own, and the diffusion's working set.
+    // its own, the diffusion's working set and the own first pass' test of I_T.
     const double frame = static_cast<double>(s.pixels()) * s.channels * sizeof(float);
-    return threads * (2 * frame + diffusion_working_bytes(s.pixels(), s.channels));
+    return threads * (2 * frame + diffusion_working_bytes(s.pixels(), s.channels) + OwnFirstPass::working_bytes(s));
 }
 
 double HybridStage::window_bytes(const Shape& s, int threads) const {
@@ -222,7 +224,6 @@ void HybridStage::run(const FrameSource& source, const FrameConsumer& consume, c
         combine_max(*weight, *change.map());
     }
     alpha_analysis.reset();  // their per-pixel sums are not needed past here (maps_bytes)
-    change_test.reset();
     const double moving_share = mean_of_map(*weight);
     results.set("motion_fraction", moving_share);
     results.set_image("alpha", alpha);
@@ -260,8 +261,10 @@ void HybridStage::run(const FrameSource& source, const FrameConsumer& consume, c
             moving[static_cast<size_t>(p)] = 1;
             pixels.push_back(p);
         }
-    const std::vector<int64_t> own_pixels = crossing_pixels(own_weight);  // inside the moving region
-    const PixelBox own_box = crossing_box(own_pixels, W);
+    // The change test stays for the own first pass' test of I_T, frame by frame (maps_bytes).
+    const OwnFirstPass own_first(s, std::move(own_weight), test_change ? &change : nullptr, moving,
+                                 options_.mc.half_width, options_.single_frame);
+    std::vector<int64_t> own_counts(static_cast<size_t>(F), 0);
 
     // The fireflies the statistics pass found, frame by frame: the temporal model never saw them, and
     // neither may the frame's own diffusion or the average along the flow, which read the input again
@@ -290,11 +293,10 @@ void HybridStage::run(const FrameSource& source, const FrameConsumer& consume, c
         temporal_frames.write_frame(t, pixels);
         std::vector<float> estimate(pixels, pixels + frame_samples);
         refine.apply(t, estimate.data(), s, source.attributes());
-        if (!own_pixels.empty()) {
+        if (!own_first.never()) {
             std::vector<float> own(static_cast<size_t>(frame_samples));
             read_input(t, own.data());
-            diffuse_region(own.data(), W, H, C, own_box, options_.single_frame);
-            blend_own_first_pass(own_pixels, own_weight, own.data(), C, estimate.data());
+            own_counts[static_cast<size_t>(t)] = own_first.apply(t, own.data(), pixels, estimate.data());
         }
         sums[static_cast<size_t>(t)] = positive_sum(estimate.data(), frame_samples);
         double level = 0;
@@ -416,7 +418,9 @@ void HybridStage::run(const FrameSource& source, const FrameConsumer& consume, c
     results.set("beta_source", "none (motion compensation)");
     results.set("motion_compensation", "optical flow on the first pass");
     results.set("aligned_fraction", static_cast<double>(pixels.size()) / static_cast<double>(P));
-    results.set("own_first_pass_fraction", static_cast<double>(own_pixels.size()) / static_cast<double>(P));
+    double own_share = 0;
+    for (const int64_t n : own_counts) own_share += static_cast<double>(n) / static_cast<double>(F * P);
+    results.set("own_first_pass_fraction", own_share);
     results.set("aligned_frames", pixels.empty() ? 0.0 : weights / static_cast<double>(F * static_cast<int64_t>(pixels.size())));
     results.set("moving_basis_fraction", 0.0);
     results.set("diffusion_fraction", 0.0);

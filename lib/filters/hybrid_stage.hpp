@@ -4,10 +4,10 @@
 //      test's noise and scores (bands read with the test's 4-row halo);
 //   2. nothing moves: global PCA (automatic rank) rebuilt from the same Gram, frame by frame;
 //   3. else the temporal filter I_T rebuilt frame by frame, each frame's first pass (I_T with the
-//      light diffusion pass) made at once; where the change test saw motion that alpha did not (an
-//      object crossing a pixel in a frame or two, which no temporal basis follows: I_T ghosts
-//      there), the first pass is the frame's own diffusion instead; both parked on disk with the
-//      first pass' statistics (its mean, its light level where nothing moves, the flow images' scale);
+//      light diffusion pass) made at once; where I_T ghosts (filters/own_first_pass.hpp: the change
+//      test saw motion that alpha did not, or a brief event that I_T misses in this frame), the
+//      first pass is the frame's own diffusion instead; both parked on disk with the first pass'
+//      statistics (its mean, its light level where nothing moves, the flow images' scale);
 //   4. a sliding window of frames t - h .. t + h: frame t's moving pixels averaged along the optical
 //      flow (statfilter/aligned_frame.hpp), blended into I_T by the moving weight, handed on.
 // Memory: a band, the temporal model and per-pixel maps, then the window's frames; never the shot.

@@ -95,7 +95,8 @@ GuidePasses guide_passes(const Filter& filter, const Sequence& input, const Para
 }
 
 std::shared_ptr<Sequence> moving_weight(const Sequence& input, const Sequence& alpha, const GuidePasses& passes,
-                                        const ParamSet& params, std::vector<float>* crossings) {
+                                        const ParamSet& params, std::vector<float>* crossings,
+                                        std::unique_ptr<TemporalChange>* change_test) {
     const Shape& s = input.shape();
     auto weight = std::make_shared<Sequence>(alpha.shape());
     weight->channel_names()[0] = "moving";
@@ -105,11 +106,14 @@ std::shared_ptr<Sequence> moving_weight(const Sequence& input, const Sequence& a
     if (z > 0) {
         TemporalChangeOptions o;
         o.z_threshold = z;
-        const auto change = motion_from_temporal_change(input, o);
+        auto test = temporal_change_test(input, o);
+        const auto change = test->map();
         if (crossings) *crossings = crossing_weight(*change, alpha);
         combine_max(*weight, *change);
-    } else if (crossings) {
-        crossings->clear();
+        if (change_test) *change_test = std::move(test);
+    } else {
+        if (crossings) crossings->clear();
+        if (change_test) change_test->reset();
     }
     // The renderer's albedo/normal passes change exactly where geometry moves, which noise cannot fake:
     // a pixel that departs from its temporal median in any frame (beta from the passes) moves.

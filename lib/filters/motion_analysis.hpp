@@ -49,9 +49,11 @@ void compute_beta(const Sequence& input, const GuidePasses& passes, const ParamS
 // change test (change_z > 0), the albedo/normal passes (beta from them, in any frame) or the
 // renderer's motion vectors (when given) say the pixel moves. The
 // still/moving decisions of the hybrid and of auto and the hybrid's motion-compensated region use it.
-// crossings, when given, receives crossing_weight (empty when the test is off).
+// crossings, when given, receives crossing_weight (empty when the test is off); change, when given,
+// the change test itself (null when it is off), for the own first pass (filters/own_first_pass.hpp).
 std::shared_ptr<Sequence> moving_weight(const Sequence& input, const Sequence& alpha, const GuidePasses& passes,
-                                        const ParamSet& params, std::vector<float>* crossings = nullptr);
+                                        const ParamSet& params, std::vector<float>* crossings = nullptr,
+                                        std::unique_ptr<TemporalChange>* change = nullptr);
 
 // Per pixel, the temporal-change map times alpha: motion alpha missed (an object crossing the pixel
 // in a frame or two, which no temporal basis follows), where the hybrid's first pass is the frame's

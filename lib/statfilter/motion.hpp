@@ -102,6 +102,13 @@ public:
     void finish_noise();
     void add_scores(const Sequence& band, int64_t y0, int64_t y1, int64_t top);
     std::shared_ptr<Sequence> map() const { return map_; }
+    // Per pixel (row-major), the number of frames in which the test fires.
+    const std::vector<uint32_t>& departures() const { return departures_; }
+    // Once the noise is in: 1 where frame f (whole, contiguous pixel x channel) departs from the pixel's
+    // temporal median (an event in this frame, by the test's own score and threshold) and by as much
+    // from a model of the frame (the temporal reconstruction, its value taking the median's place):
+    // where the model misses what the frame shows.
+    void model_misses(int64_t f, const float* frame, const float* model, std::vector<uint8_t>& misses) const;
 
 private:
     bool active() const;
@@ -110,7 +117,11 @@ private:
     std::vector<double> row_levels_, gain_, sigma_, centre_;
     double unit_ = 0, floor_ = 0;
     std::shared_ptr<Sequence> map_;
+    std::vector<uint32_t> departures_;
 };
+
+// The test over a sequence held in memory, its map and departures in.
+std::unique_ptr<TemporalChange> temporal_change_test(const Sequence& input, const TemporalChangeOptions& options);
 
 // Where the renderer's motion vectors (Cycles' Vector pass, X, Y, Z, W in pixels) carry a pixel `drift`
 // pixels or more over the shot (its steps to the next frame summed): 1-frame, 1-channel map of 0/1.

@@ -6,6 +6,7 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <random>
@@ -89,6 +90,62 @@ TEST(TemporalChange, TheHybridAndAutoSeeTheBall) {
     // A light swing over a still wall stays a still scene.
     const FilterRun light = run_filter("auto", *wall(0.2, 0.35, false));
     EXPECT_EQ(light.filter->results().get_string("method"), "pca then diffusion");
+}
+
+// A dark disc rests on the noisy wall in the first frame only: the test counts one departing frame at
+// its pixels (none elsewhere), and of frame 0 a model that lacks the disc misses exactly there while a
+// model that has it (the clean frame) misses nothing; a sustained change counts every frame it lasts.
+TEST(TemporalChange, CountsDeparturesAndFindsWhereAModelMisses) {
+    auto noisy = wall(0.3, 0.0, false), clean = wall(0.0, 0.0, false);
+    const auto disc = [](int64_t y, int64_t x) { return std::hypot(x - 30.0, y - 24.0) <= 6; };
+    for (Sequence* s : {noisy.get(), clean.get()})
+        for (int64_t y = 0; y < kHeight; ++y)
+            for (int64_t x = 0; x < kWidth; ++x)
+                if (disc(y, x))
+                    for (int64_t c = 0; c < 3; ++c) s->at(0, y, x, c) *= 0.1f;
+    const auto change = temporal_change_test(*noisy, {});
+    const int64_t P = kHeight * kWidth, C = 3;
+    int64_t inside = 0, counted = 0, outside = 0;
+    for (int64_t p = 0; p < P; ++p) {
+        const uint32_t d = change->departures()[static_cast<size_t>(p)];
+        if (disc(p / kWidth, p % kWidth) && std::hypot(p % kWidth - 30.0, p / kWidth - 24.0) <= 3) {
+            ++inside;
+            counted += d == 1;
+        } else if (!disc(p / kWidth, p % kWidth)) {
+            outside += d > 0;
+        }
+    }
+    EXPECT_EQ(counted, inside);  // the disc's core: one frame each
+    EXPECT_EQ(outside, 0);
+    // Frame 0 against models of it: the wall without the disc, and the clean frame with it.
+    std::vector<float> frame(static_cast<size_t>(P * C)), without(frame.size()), with(frame.size());
+    const auto still = wall(0.0, 0.0, false);
+    for (int64_t p = 0; p < P; ++p)
+        for (int64_t c = 0; c < C; ++c) {
+            frame[static_cast<size_t>(p * C + c)] = noisy->at(0, p / kWidth, p % kWidth, c);
+            without[static_cast<size_t>(p * C + c)] = still->at(0, p / kWidth, p % kWidth, c);
+            with[static_cast<size_t>(p * C + c)] = clean->at(0, p / kWidth, p % kWidth, c);
+        }
+    std::vector<uint8_t> misses;
+    change->model_misses(0, frame.data(), without.data(), misses);
+    int64_t missed_core = 0, missed_outside = 0;
+    for (int64_t p = 0; p < P; ++p) {
+        const double r = std::hypot(p % kWidth - 30.0, p / kWidth - 24.0);
+        missed_core += r <= 3 && misses[static_cast<size_t>(p)];
+        missed_outside += r > 6 && misses[static_cast<size_t>(p)];
+    }
+    EXPECT_EQ(missed_core, inside);
+    EXPECT_EQ(missed_outside, 0);
+    change->model_misses(0, frame.data(), with.data(), misses);
+    EXPECT_EQ(std::count(misses.begin(), misses.end(), uint8_t{1}), 0);
+    // The disc staying from frame 20 on: departures count its 12 frames.
+    auto late = wall(0.3, 0.0, false);
+    for (int64_t f = 20; f < kFrames; ++f)
+        for (int64_t y = 0; y < kHeight; ++y)
+            for (int64_t x = 0; x < kWidth; ++x)
+                if (disc(y, x))
+                    for (int64_t c = 0; c < 3; ++c) late->at(f, y, x, c) *= 0.1f;
+    EXPECT_EQ(temporal_change_test(*late, {})->departures()[static_cast<size_t>(24 * kWidth + 30)], 12u);
 }
 
 // The ball crosses each pixel of its path in a frame or two: no temporal basis follows that, so I_T
