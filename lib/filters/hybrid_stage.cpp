@@ -102,7 +102,7 @@ double HybridStage::analysis_bytes(const Shape& s) const {
 double HybridStage::maps_bytes(const Shape& s) {
     // After the analysis: alpha (a result), the moving weight, its grown copy, the moving mask and the
     // indices of the moving pixels; the own first pass' weights, masks and indices, and the change
-    // test it keeps (noise and centre per pixel, double, and its departures).
+    // test it keeps (noise and centre per pixel, double, its departures and its map).
     return static_cast<double>(s.pixels()) * (3 * sizeof(float) + 1 + sizeof(int64_t) + OwnFirstPass::held_bytes_per_pixel() +
                                               2 * sizeof(double) + sizeof(uint32_t) + sizeof(float));
 }

@@ -17,10 +17,6 @@ OwnFirstPass::OwnFirstPass(const Shape& shape, std::vector<float> crossings, con
         if (moving[p] && departures[p] > 0 && departures[p] <= half_width) brief_[p] = 1, ++brief_pixels_;
 }
 
-double OwnFirstPass::crossing_fraction() const {
-    return static_cast<double>(crossing_pixels_.size()) / static_cast<double>(std::max<int64_t>(1, shape_.pixels()));
-}
-
 double OwnFirstPass::working_bytes(const Shape& s) {
     // The model test's three float images and its mask, this frame's weights and pixel list.
     return static_cast<double>(s.pixels()) * (3 * sizeof(float) + 1 + sizeof(float) + sizeof(int64_t));
@@ -28,22 +24,24 @@ double OwnFirstPass::working_bytes(const Shape& s) {
 
 int64_t OwnFirstPass::apply(int64_t f, float* frame, const float* model, float* first_pass) const {
     const int64_t W = shape_.width, C = shape_.channels, P = shape_.pixels();
-    if (brief_pixels_ == 0) {
-        if (crossing_pixels_.empty()) return 0;
-        diffuse_region(frame, W, shape_.height, C, crossing_box(crossing_pixels_, W), diffusion_);
-        blend_own_first_pass(crossing_pixels_, crossings_, frame, C, first_pass);
-        return static_cast<int64_t>(crossing_pixels_.size());
+    // The crossings alone, or with this frame's brief events that I_T misses.
+    const std::vector<float>* weight = &crossings_;
+    const std::vector<int64_t>* pixels = &crossing_pixels_;
+    std::vector<float> frame_weight;
+    std::vector<int64_t> frame_pixels;
+    if (brief_pixels_ > 0) {
+        std::vector<uint8_t> misses;
+        change_->model_misses(f, frame, model, misses);
+        frame_weight = crossings_.empty() ? std::vector<float>(static_cast<size_t>(P), 0.0f) : crossings_;
+        for (int64_t p = 0; p < P; ++p)
+            if (brief_[static_cast<size_t>(p)] && misses[static_cast<size_t>(p)]) frame_weight[static_cast<size_t>(p)] = 1.0f;
+        frame_pixels = crossing_pixels(frame_weight);
+        weight = &frame_weight, pixels = &frame_pixels;
     }
-    std::vector<uint8_t> misses;
-    change_->model_misses(f, frame, model, misses);
-    std::vector<float> weight = crossings_.empty() ? std::vector<float>(static_cast<size_t>(P), 0.0f) : crossings_;
-    for (int64_t p = 0; p < P; ++p)
-        if (brief_[static_cast<size_t>(p)] && misses[static_cast<size_t>(p)]) weight[static_cast<size_t>(p)] = 1.0f;
-    const std::vector<int64_t> pixels = crossing_pixels(weight);
-    if (pixels.empty()) return 0;
-    diffuse_region(frame, W, shape_.height, C, crossing_box(pixels, W), diffusion_);
-    blend_own_first_pass(pixels, weight, frame, C, first_pass);
-    return static_cast<int64_t>(pixels.size());
+    if (pixels->empty()) return 0;
+    diffuse_region(frame, W, shape_.height, C, crossing_box(*pixels, W), diffusion_);
+    blend_own_first_pass(*pixels, *weight, frame, C, first_pass);
+    return static_cast<int64_t>(pixels->size());
 }
 
 }  // namespace statfilter

@@ -28,7 +28,6 @@ public:
     int64_t apply(int64_t f, float* frame, const float* model, float* first_pass) const;
     // No pixel in any frame.
     bool never() const { return crossing_pixels_.empty() && brief_pixels_ == 0; }
-    double crossing_fraction() const;
     // Bytes per thread while apply runs, beyond the two frames it is handed.
     static double working_bytes(const Shape& shape);
     // Bytes held per pixel for the whole rebuild (the weights and masks).
