@@ -18,6 +18,7 @@
 #pragma once
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "statfilter/progress.hpp"
 #include "statfilter/sequence.hpp"
@@ -64,5 +65,36 @@ constexpr double kLevelOffset = 0.03;
 // shapes or parameters out of range (degree above frames - 1), Error(Numeric) for NaN/Inf.
 Detection detect_artifacts(const Sequence& denoised, const Sequence* noisy, const DetectOptions& options,
                            const Progress& progress);
+
+// The same detection cut into bands of rows (the detect plan's tasks, docs/distributed.md). It is
+// per pixel over time except for two window averages (the residual's noise variance and the series),
+// which reach detect_halo() rows beside a pixel; and the automatic tolerance, which is the median of
+// every pixel's relative noise. So: detect_noise_ratios per band, detect_delta over all of them in
+// row order, detect_rows per band. Each gives the rows detect_artifacts gives, bit for bit.
+//
+// Rows [y0, y1) of an image `height` rows high; the sequences hold its rows [r0, r0 + held) of every
+// frame, which must include the band's halo rows (clipped to the image).
+struct DetectRows {
+    const Sequence& denoised;
+    const Sequence* noisy;  // null only for DetectSource::Denoised
+    int64_t r0 = 0, y0 = 0, y1 = 0, height = 0;
+};
+
+struct DetectBand {
+    std::shared_ptr<Sequence> score, mask;  // F x (y1 - y0) x W x 1
+    std::shared_ptr<Sequence> degree_map;   // 1 x (y1 - y0) x W x 1
+    int64_t flagged = 0, unexplained = 0;
+    int64_t degree_sum = 0, explained = 0;  // mean degree = degree_sum / explained, over every band
+};
+
+// What detect_artifacts checks, on shapes alone (noisy null without the noisy input).
+void check_detect_options(const Shape& denoised, const Shape* noisy, const DetectOptions& options);
+int64_t detect_halo(const DetectOptions& options);
+// The relative noise of each pixel of the band's rows, row-major (empty without the noisy input).
+std::vector<double> detect_noise_ratios(const DetectRows& rows, const DetectOptions& options);
+// The tolerance from every pixel's relative noise (any order: the median does not depend on it);
+// noise_ratio receives the median.
+double detect_delta(const DetectOptions& options, std::vector<double> noise_ratios, double* noise_ratio);
+DetectBand detect_rows(const DetectRows& rows, const DetectOptions& options, double delta, const Progress& progress);
 
 }  // namespace statfilter
