@@ -4,6 +4,7 @@
 #include <sstream>
 
 #include "api_guard.hpp"
+#include "distributed/detect_plan.hpp"
 #include "distributed/tile_files.hpp"
 #include "distributed/tile_plan.hpp"
 #include "options.hpp"
@@ -169,6 +170,74 @@ sf_status sf_plan_write(sf_filter filter, const char* input_pattern, const sf_re
     }, handle_error);
 }
 
+sf_status sf_plan_write_detect(sf_filter filter, const char* denoised_pattern, const char* noisy_pattern,
+                               const sf_read_options* read, const char* mask_pattern, const char* crops_path,
+                               const sf_run_options* run, const sf_plan_options* plan, const char* plan_path) {
+    std::string* handle_error = filter ? &filter->last_error : nullptr;
+    return guarded([&] {
+        sf_filter_s& handle = require(filter, "filter");
+        if (handle.name != "detect")
+            throw Error(Status::InvalidArgument, "sf_plan_write_detect takes the \"detect\" filter, not \"" + handle.name + "\"");
+        const sf_run_options r = read_versioned(run, sf_run_options_init);
+        const sf_plan_options p = read_versioned(plan, sf_plan_options_init);
+        const sf_read_options ro_c = read_versioned(read, sf_read_options_init);
+        check_run_options(r, "the default", "every core");
+        if (r.overwrite) throw Error(Status::InvalidArgument, "a detect plan does not overwrite its inputs (run->overwrite is refused)");
+        const bool has_mask = mask_pattern && *mask_pattern, has_crops = crops_path && *crops_path;
+        if (!has_mask && !has_crops)
+            throw Error(Status::InvalidArgument, "a detect plan writes the mask (mask_pattern), the crop windows (crops_path) or both: give one");
+        const std::string denoised = absolute(require_string(denoised_pattern, "denoised_pattern"));
+        const std::string noisy = noisy_pattern && *noisy_pattern ? absolute(noisy_pattern) : std::string();
+        const std::string path = require_string(plan_path, "plan_path");
+        handle.filter->check();
+        ReadOptions ro = read_options_from(&ro_c);
+        ro.progress = Progress();
+        auto source = open_frame_source(denoised, ro);
+        std::unique_ptr<FrameSource> noisy_source;
+        if (!noisy.empty()) noisy_source = open_frame_source(noisy, ro);
+        // The mask as the single-process detect writes it (tools/cmd_detect.cpp): half float.
+        sf_write_options wo_c;
+        sf_write_options_init(&wo_c);
+        wo_c.pixel_type = SF_PIXEL_HALF;
+        DetectPlanRequest request;
+        request.denoised = denoised;
+        request.noisy = noisy;
+        if (has_mask) {
+            request.mask = absolute(mask_pattern);
+            WriteOptions wo = write_options_from(&wo_c);
+            wo.progress = Progress();
+            Sequence attributes(Shape{source->shape().frames, 1, 1, 1});
+            attributes.channel_names()[0] = "mask";
+            attributes.frame_numbers() = source->attributes().frame_numbers();
+            for (const std::string& input : {denoised, noisy}) {
+                if (input.empty()) continue;
+                OutputChecks checks;
+                checks.width = source->shape().width;
+                checks.height = source->shape().height;
+                checks.input_pattern = input;
+                open_frame_sink(request.mask, wo, attributes, checks);  // the mask's checks, now; nothing written
+            }
+        }
+        if (has_crops) {
+            request.crops = absolute(crops_path);
+            fs::create_directories(fs::path(request.crops).parent_path());
+            if (request.crops == denoised || request.crops == noisy || request.crops == request.mask)
+                throw Error(Status::InvalidArgument, "the crops file '" + request.crops + "' is an input or the mask pattern");
+        }
+        request.work_dir = absolute(p.work_dir && *p.work_dir ? std::string(p.work_dir) : path + ".work");
+        request.tiles = p.tiles;
+        request.tile_rows = p.tile_rows;
+        request.budget_bytes = static_cast<double>(r.memory);
+        request.threads = r.threads;
+        request.front_end = front_end_json(handle.name, *handle.filter, ro_c, wo_c);
+        const std::string text = make_detect_plan(*handle.filter, *source, noisy_source.get(), request);
+        fs::create_directories(request.work_dir);
+        AtomicFile file(path);
+        file.write_at(0, text.data(), text.size());
+        file.commit();
+    }, handle_error);
+}
+
 sf_status sf_plan_task_count(const char* plan_path, int64_t* count) {
     return guarded([&] { require(count, "count") = plan_task_count(read_plan(require_string(plan_path, "plan_path"))); });
 }
@@ -189,9 +258,13 @@ sf_status sf_plan_run_task(const char* plan_path, int64_t task, const sf_run_opt
         const JsonValue* input = plan.find("input");
         if (!input || !input->is(JsonValue::Type::String)) throw Error(Status::InvalidArgument, "the plan has no input");
         auto source = open_frame_source(input->string(), ro);
+        std::unique_ptr<FrameSource> noisy;  // a detect plan's second input
+        const std::string noisy_pattern = text_member(plan, "noisy");
+        if (!noisy_pattern.empty()) noisy = open_frame_source(noisy_pattern, ro);
         TaskContext context;
         context.filter = filter.get();
         context.source = source.get();
+        context.noisy = noisy.get();
         context.open_sink = [&](const std::string& pattern, const Sequence& attributes) {
             OutputChecks checks;
             checks.width = source->shape().width;

@@ -1,6 +1,8 @@
 // statfilter plan IN OUT [denoise options] -o PLAN: the run as a plan of tasks for a render farm or
 // any scheduler (statfilter task PLAN N runs one).
+#include <algorithm>
 #include <cstdio>
+#include <string>
 #include <cstdlib>
 
 #include "cli_common.hpp"
@@ -19,13 +21,76 @@ int64_t count_option(const Args& args, const char* name) {
     return n;
 }
 
+std::string dashes_to_underscores(std::string s) {
+    std::replace(s.begin(), s.end(), '-', '_');
+    return s;
+}
+
+// statfilter plan detect DENOISED --noisy NOISY [--mask M] [--crops C] [detect parameters] -o PLAN:
+// `statfilter detect` as a plan, read the same way with `plan` in front.
+int plan_detect(int argc, char** argv) {
+    const Args args(argc, argv, 3, {"help", "quiet"},
+                    merged({kInputOptions, kRunOptions, {"noisy", "mask", "crops", "output-file", "tiles", "tile-rows", "work"}}),
+                    filter_parameter_names("detect"));
+    if (args.flag("help")) {
+        std::printf("usage: statfilter plan detect DENOISED --noisy NOISY [--mask M.####.exr] [--crops C.json]\n"
+                    "                      [detect parameters] [--tiles N | --tile-rows R] -o PLAN\n\n"
+                    "Writes 'statfilter detect' as a plan of tasks (JSON) that 'statfilter task PLAN N' runs one at\n"
+                    "a time, in the order of each task's 'after' list: noise tasks per band of rows, one tolerance\n"
+                    "task, detect tasks per band, one task writing the mask frames and the crop windows. The mask\n"
+                    "and crop windows are the same as 'statfilter detect' writes with the same options\n"
+                    "(docs/distributed.md).\n\n"
+                    "  --noisy PATTERN         the noisy render DENOISED was made from\n"
+                    "  --mask PATTERN          write the mask, one EXR per frame\n"
+                    "  --crops PATH            write the crop windows as JSON (at least one of --mask, --crops)\n"
+                    "  -o PLAN, --output-file PLAN   the plan file to write\n"
+                    "  --tiles N               bands of rows (or --tile-rows R rows each; default 256 rows)\n"
+                    "  --work DIR              where tasks exchange files, on shared storage (default PLAN.work)\n"
+                    "  --memory SIZE, --threads N   each task's (default: half of its node's memory, every core)\n"
+                    "  detect parameters       as 'statfilter detect --help' lists them (--degree, --threshold, ...)\n"
+                    "\n%s", kInputHelp);
+        return 0;
+    }
+    if (args.positionals().size() != 1) throw UsageError("plan detect takes one DENOISED pattern (see --help)");
+    if (!args.has("output-file")) throw UsageError("give the plan file to write: -o PLAN");
+    if (!args.has("mask") && !args.has("crops")) throw UsageError("give what the plan writes: --mask PATTERN, --crops PATH or both");
+    if (args.has("tiles") && args.has("tile-rows")) throw UsageError("give --tiles or --tile-rows, not both");
+    if (args.has("mask")) check_exr_output(args.option("mask"));
+    const std::string in = args.positionals()[0], plan = args.option("output-file");
+    sf_run_options run = run_options(args);
+    sf_plan_options options;
+    sf_plan_options_init(&options);
+    options.tiles = count_option(args, "tiles");
+    options.tile_rows = count_option(args, "tile-rows");
+    const std::string work = args.option("work"), noisy = args.option("noisy"), mask = args.option("mask"),
+                      crops = args.option("crops");
+    options.work_dir = work.empty() ? nullptr : work.c_str();
+    FilterHandle filter("detect");
+    for (const auto& [name, value] : args.extras())
+        filter.check(sf_filter_set_string(filter.get(), dashes_to_underscores(name).c_str(), value.c_str()));
+    IoSettings io(args);
+    filter.check(sf_plan_write_detect(filter.get(), in.c_str(), noisy.empty() ? nullptr : noisy.c_str(), &io.read,
+                                      mask.empty() ? nullptr : mask.c_str(), crops.empty() ? nullptr : crops.c_str(),
+                                      &run, &options, plan.c_str()));
+    int64_t count = 0;
+    check(sf_plan_task_count(plan.c_str(), &count));
+    if (!args.flag("quiet"))
+        std::fprintf(stderr, "statfilter: detect: %lld tasks in %s; run each with 'statfilter task %s N' after the tasks "
+                     "its \"after\" list names\n", static_cast<long long>(count), plan.c_str(), plan.c_str());
+    std::printf("%lld\n", static_cast<long long>(count));
+    return 0;
+}
+
 }  // namespace
 
 int cmd_plan(int argc, char** argv) {
+    if (argc > 2 && std::string(argv[2]) == "detect") return plan_detect(argc, argv);
     const Args args(argc, argv, 2, {"help", "quiet", "float", "clamp-half"},
                     merged({kInputOptions, kOutputOptions, kRunOptions, {"method", "output-file", "tiles", "tile-rows", "frames-per-task", "work"}}));
     if (args.flag("help")) {
-        std::printf("usage: statfilter plan IN OUT [denoise options] [--tiles N | --tile-rows R] -o PLAN\n\n"
+        std::printf("usage: statfilter plan IN OUT [denoise options] [--tiles N | --tile-rows R] -o PLAN\n"
+                    "       statfilter plan detect DENOISED --noisy NOISY [--mask M] [--crops C] [...] -o PLAN\n"
+                    "                                        (statfilter plan detect --help)\n\n"
                     "Writes the denoise run as a plan of tasks (JSON) that 'statfilter task PLAN N' runs one at a\n"
                     "time, on any node that sees IN, OUT and the work directory, in the order of each task's\n"
                     "'after' list. The output is the same as 'statfilter denoise IN OUT' with the same options\n"

@@ -43,6 +43,7 @@ std::string make_plan(const Filter& filter, const FrameSource& source, const Pla
 struct TaskContext {
     Filter* filter = nullptr;
     const FrameSource* source = nullptr;
+    const FrameSource* noisy = nullptr;  // a detect plan's named input "noisy" (null without it)
     std::function<std::unique_ptr<FrameSink>(const std::string& pattern, const Sequence& attributes)> open_sink;
     std::vector<std::pair<std::string, std::string>> attributes;  // provenance for every frame written
     double budget_bytes = 0;  // 0: the plan's

@@ -8,6 +8,8 @@
 #include <filesystem>
 #include <sstream>
 
+#include "distributed/detect_plan.hpp"
+#include "distributed/task_common.hpp"
 #include "distributed/tile_files.hpp"
 #include "distributed/tile_plan.hpp"
 #include "pipeline/low_rank_stage.hpp"
@@ -24,58 +26,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-const JsonValue& member(const JsonValue& object, const std::string& key, const std::string& where) {
-    const JsonValue* v = object.find(key);
-    if (!v) throw Error(Status::InvalidArgument, where + " has no '" + key + "'");
-    return *v;
-}
-int64_t integer(const JsonValue& object, const std::string& key, const std::string& where) {
-    return static_cast<int64_t>(member(object, key, where).number());
-}
-std::pair<int64_t, int64_t> range(const JsonValue& object, const std::string& key, const std::string& where) {
-    const JsonValue& v = member(object, key, where);
-    if (!v.is(JsonValue::Type::Array) || v.array().size() != 2)
-        throw Error(Status::InvalidArgument, where + ": '" + key + "' is not a [begin, end) pair");
-    return {static_cast<int64_t>(v.array()[0].number()), static_cast<int64_t>(v.array()[1].number())};
-}
-
-double cpu_seconds() {
-    rusage u{};
-    getrusage(RUSAGE_SELF, &u);
-    return u.ru_utime.tv_sec + u.ru_stime.tv_sec + 1e-6 * (u.ru_utime.tv_usec + u.ru_stime.tv_usec);
-}
-
-// Counts the bytes of pixels a task decodes from the shot (as float samples).
-class CountingSource final : public FrameSource {
-public:
-    CountingSource(const FrameSource& base, std::atomic<int64_t>& bytes) : base_(base), bytes_(bytes) {}
-    const Shape& shape() const override { return base_.shape(); }
-    const Sequence& attributes() const override { return base_.attributes(); }
-    void read_rows(int64_t f, int64_t y0, int64_t y1, float* dst) const override {
-        base_.read_rows(f, y0, y1, dst);
-        bytes_ += (y1 - y0) * base_.shape().width * base_.shape().channels * static_cast<int64_t>(sizeof(float));
-    }
-
-private:
-    const FrameSource& base_;
-    std::atomic<int64_t>& bytes_;
-};
-
-std::string results_json(const Results& r) {
-    std::string s = "{";
-    for (const std::string& name : r.names()) {
-        bool number = true;
-        double v = 0;
-        try {
-            v = r.get_float(name);
-        } catch (const Error&) {
-            number = false;
-        }
-        s += (s.size() > 1 ? ", " : "") + json_quote(name) + ": " + (number ? json_number(v) : json_quote(r.get_string(name)));
-    }
-    return s + "}";
-}
-
 // Paths in the work directory.
 struct Work {
     std::string dir;
@@ -84,19 +34,6 @@ struct Work {
     std::string tile(int64_t tile) const { return dir + "/tile-" + std::to_string(tile) + ".f32"; }
     std::string report(int64_t task) const { return dir + "/task-" + std::to_string(task) + ".json"; }
 };
-
-// A task's frames are staged in a hidden directory beside the output frames (the same file system,
-// so moving each into place is one atomic rename), named after the plan's work directory and task.
-// The work directory's full path is hashed in, so plans whose work directories share a name do not
-// meet there (only the task that makes a staging directory reads it: the hash need not be stable).
-std::string staging_dir(const JsonValue& plan, int64_t task) {
-    const fs::path output(plan.find("output")->string());
-    const std::string& work = plan.find("work")->string();
-    char hash[17];
-    std::snprintf(hash, sizeof hash, "%016zx", std::hash<std::string>()(work));
-    return (output.parent_path() / ("." + fs::path(work).filename().string() + "-" + hash + ".frames-" +
-                                    std::to_string(task))).string();
-}
 
 struct Run {
     const JsonValue& plan;
@@ -306,6 +243,8 @@ void shot_task(Run& run) {
 }  // namespace
 
 std::string run_plan_task(const JsonValue& plan, int64_t index, const TaskContext& context) {
+    if (const JsonValue* kind = plan.find("kind"); kind && kind->is(JsonValue::Type::String) && kind->string() == "detect")
+        return run_detect_task(plan, index, context);
     const int64_t count = plan_task_count(plan);
     if (index < 0 || index >= count)
         throw Error(Status::InvalidArgument, "task " + std::to_string(index) + " is not in the plan (tasks 0 to " +
@@ -334,19 +273,8 @@ std::string run_plan_task(const JsonValue& plan, int64_t index, const TaskContex
     context.progress.report(1.0, "done");
 
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    std::ostringstream report;
-    report << "{\"task\": " << index << ", \"phase\": " << json_quote(phase) << ", \"seconds\": " << json_number(seconds)
-           << ", \"cpu_seconds\": " << json_number(cpu_seconds() - cpu0) << ", \"threads\": " << threads
-           << ", \"pixel_bytes_read\": " << run.pixels_read.load() << ", \"bytes_read\": " << run.bytes_read
-           << ", \"bytes_written\": " << run.bytes_written << ", \"results\": " << results_json(run.results)
-           << ", \"outputs\": [";
-    for (size_t i = 0; i < run.outputs.size(); ++i) report << (i ? ", " : "") << json_quote(run.outputs[i]);
-    report << "]}\n";
-    const std::string text = report.str();
-    AtomicFile file(run.work.report(index));
-    file.write_at(0, text.data(), text.size());
-    file.commit();
-    return text;
+    return write_task_report(run.work.report(index), index, phase, seconds, cpu_seconds() - cpu0, threads,
+                             run.pixels_read.load(), run.bytes_read, run.bytes_written, run.results, run.outputs);
 }
 
 }  // namespace statfilter

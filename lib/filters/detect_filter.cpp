@@ -2,6 +2,7 @@
 // it came from as the named input "noisy". Its output is its input unchanged; what it finds are its
 // results: the images mask, score and degree_map, the crop-window JSON "crops", and counts.
 #include "filters/builtin_filters.hpp"
+#include "filters/detect_filter.hpp"
 #include "statfilter/artifact_detection.hpp"
 #include "statfilter/crop_windows.hpp"
 #include "statfilter/error.hpp"
@@ -41,25 +42,10 @@ public:
 protected:
     void run(const Sequence& input, Sequence& output, const Progress& progress) override {
         const Sequence* noisy = this->input("noisy");
-        const std::string source = params().get_string("source");
-        DetectOptions o;
-        if (source == "auto")
-            o.source = noisy ? DetectSource::Residual : DetectSource::Denoised;
-        else
-            o.source = source == "residual" ? DetectSource::Residual
-                                            : source == "noisy" ? DetectSource::Noisy : DetectSource::Denoised;
-        o.degree = params().get_int("degree");
-        o.delta = params().get_float("delta");
-        o.window = params().get_int("window");
-        o.threshold = params().get_float("threshold");
-        o.frame_outlier = params().get_float("frame_outlier");
-        o.budget_bytes = params().get_float("memory_mb") * 1024.0 * 1024.0;
+        const DetectOptions o = detect_options(params(), noisy != nullptr);
         const Detection d = detect_artifacts(input, noisy, o, progress);
 
-        CropOptions co;
-        co.padding = params().get_int("crop_padding");
-        co.min_size = params().get_int("crop_min_size");
-        co.window_cost = params().get_int("crop_window_cost");
+        const CropOptions co = crop_options(params());
         const CropPlan plan = make_crop_plan(*d.mask, co);
 
         if (&input != &output) output.copy_samples_from(input);
@@ -85,6 +71,31 @@ protected:
 };
 
 }  // namespace
+
+DetectOptions detect_options(const ParamSet& params, bool has_noisy) {
+    const std::string source = params.get_string("source");
+    DetectOptions o;
+    if (source == "auto")
+        o.source = has_noisy ? DetectSource::Residual : DetectSource::Denoised;
+    else
+        o.source = source == "residual" ? DetectSource::Residual
+                                        : source == "noisy" ? DetectSource::Noisy : DetectSource::Denoised;
+    o.degree = params.get_int("degree");
+    o.delta = params.get_float("delta");
+    o.window = params.get_int("window");
+    o.threshold = params.get_float("threshold");
+    o.frame_outlier = params.get_float("frame_outlier");
+    o.budget_bytes = params.get_float("memory_mb") * 1024.0 * 1024.0;
+    return o;
+}
+
+CropOptions crop_options(const ParamSet& params) {
+    CropOptions co;
+    co.padding = params.get_int("crop_padding");
+    co.min_size = params.get_int("crop_min_size");
+    co.window_cost = params.get_int("crop_window_cost");
+    return co;
+}
 
 std::unique_ptr<Filter> make_detect_filter() { return std::make_unique<DetectFilter>(); }
 

@@ -333,6 +333,23 @@ SF_API sf_status sf_plan_write(sf_filter filter, const char* input_pattern, cons
                                const char* output_pattern, const sf_write_options* write, const sf_run_options* run,
                                const sf_plan_options* plan, const char* plan_path);
 
+/* Writes a plan (JSON, atomically) of the tasks that run the "detect" filter (configured by its
+ * parameters) on the denoised sequence denoised_pattern with the noisy render noisy_pattern (its
+ * named input "noisy"; NULL = without it), writing the mask frames to mask_pattern (half float, one
+ * channel "mask", as `statfilter detect --mask` writes them) and the crop windows to crops_path
+ * (NULL = not written; at least one of the two is given). The detection is cut into bands of rows
+ * of every frame (plan->tiles or plan->tile_rows; plan->frames_per_task is not used): "noise" tasks
+ * (one per band), one "tolerance" task after them (the automatic tolerance from every pixel's
+ * noise), "detect" tasks after it (one per band, reading its halo rows: the band's mask), then one
+ * "masks" task that writes every mask frame once and the crop windows. The mask and the crop windows
+ * are bit-identical to sf_filter_execute's on the whole sequences. Checked before the plan is
+ * written: the filter and its parameters against every frame's header of both sequences (shapes,
+ * degree against the frame count), the mask pattern and directory, and that a band task fits
+ * run->memory; the crops file's directory is created. Run the tasks with sf_plan_run_task. */
+SF_API sf_status sf_plan_write_detect(sf_filter filter, const char* denoised_pattern, const char* noisy_pattern,
+                                      const sf_read_options* read, const char* mask_pattern, const char* crops_path,
+                                      const sf_run_options* run, const sf_plan_options* plan, const char* plan_path);
+
 /* The number of tasks in a plan file. */
 SF_API sf_status sf_plan_task_count(const char* plan_path, int64_t* count);
 

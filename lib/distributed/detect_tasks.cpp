@@ -1,0 +1,288 @@
+// run_detect_task: one task of a detect plan (noise, tolerance, detect, masks). Each writes its files
+// atomically (temporary + rename) and its report last; a rerun rewrites the same bytes.
+#include <chrono>
+#include <cstring>
+#include <filesystem>
+
+#include "distributed/detect_plan.hpp"
+#include "distributed/task_common.hpp"
+#include "distributed/tile_files.hpp"
+#include "filters/detect_filter.hpp"
+#include "pipeline/memory_budget.hpp"
+#include "pipeline/parallel.hpp"
+#include "statfilter/error.hpp"
+#include "statfilter/frame_pattern.hpp"
+
+namespace statfilter {
+namespace {
+
+namespace fs = std::filesystem;
+constexpr char kNoiseMagic[8] = {'S', 'F', 'N', 'O', 'I', 'S', 'E', '1'};
+constexpr char kToleranceMagic[8] = {'S', 'F', 'D', 'E', 'L', 'T', 'A', '1'};
+constexpr char kBandMagic[8] = {'S', 'F', 'D', 'M', 'A', 'S', 'K', '1'};
+constexpr int64_t kBandHeader = 8 + 7 * 8;  // magic, frames, rows, width, flagged, unexplained, degree sum, explained
+
+struct Work {
+    std::string dir;
+    std::string noise(int64_t tile) const { return dir + "/noise-" + std::to_string(tile) + ".bin"; }
+    std::string tolerance() const { return dir + "/tolerance.bin"; }
+    std::string band(int64_t tile) const { return dir + "/mask-" + std::to_string(tile) + ".bin"; }
+    std::string report(int64_t task) const { return dir + "/task-" + std::to_string(task) + ".json"; }
+};
+
+struct Run {
+    const JsonValue& plan;
+    const TaskContext& context;
+    Work work;
+    DetectOptions options;
+    std::atomic<int64_t> pixels_read{0};
+    int64_t bytes_read = 0, bytes_written = 0;
+    Results results;
+    std::vector<std::string> outputs;
+};
+
+void write_whole(const std::string& path, const std::vector<char>& bytes) {
+    AtomicFile file(path);
+    file.write_at(0, bytes.data(), bytes.size());
+    file.commit();
+}
+
+void append(std::vector<char>& out, const void* p, size_t n) {
+    out.insert(out.end(), static_cast<const char*>(p), static_cast<const char*>(p) + n);
+}
+
+void check_magic(const std::string& path, const char* magic) {
+    char m[8];
+    read_file_at(path, 0, m, 8);
+    if (std::memcmp(m, magic, 8) != 0) throw Error(Status::Io, "'" + path + "' is not the file a detect task writes");
+}
+
+// The band's rows [r0, r1) of every frame of one sequence.
+std::shared_ptr<Sequence> read_band(Run& run, const FrameSource& source, int64_t r0, int64_t r1) {
+    const Shape& s = source.shape();
+    auto band = std::make_shared<Sequence>(Shape{s.frames, r1 - r0, s.width, s.channels});
+    std::vector<float> rows(static_cast<size_t>((r1 - r0) * s.width * s.channels));
+    for (int64_t f = 0; f < s.frames; ++f) {
+        source.read_rows(f, r0, r1, rows.data());
+        band->set_frame(f, rows.data());
+    }
+    run.pixels_read += s.frames * static_cast<int64_t>(rows.size() * sizeof(float));
+    return band;
+}
+
+struct Band {
+    std::shared_ptr<Sequence> denoised, noisy;
+    DetectRows rows() const {
+        return {*denoised, noisy.get(), r0, y0, y1, height};
+    }
+    int64_t r0 = 0, y0 = 0, y1 = 0, height = 0;
+};
+
+Band band_of(Run& run, const JsonValue& task) {
+    Band b;
+    const auto rows = range(task, "rows", "task"), read = range(task, "read_rows", "task");
+    b.r0 = read.first, b.y0 = rows.first, b.y1 = rows.second, b.height = run.context.source->shape().height;
+    b.denoised = read_band(run, *run.context.source, read.first, read.second);
+    if (run.context.noisy) b.noisy = read_band(run, *run.context.noisy, read.first, read.second);
+    return b;
+}
+
+void noise_task(Run& run, const JsonValue& task) {
+    const Band b = band_of(run, task);
+    const std::vector<double> ratios = detect_noise_ratios(b.rows(), run.options);
+    std::vector<char> out;
+    append(out, kNoiseMagic, 8);
+    const auto count = static_cast<int64_t>(ratios.size());
+    append(out, &count, 8);
+    append(out, ratios.data(), ratios.size() * sizeof(double));
+    const std::string path = run.work.noise(integer(task, "tile", "task"));
+    write_whole(path, out);
+    run.bytes_written += static_cast<int64_t>(out.size());
+    run.outputs.push_back(path);
+}
+
+// Every band's ratios, read once each by its band number, in band order: the image's pixels in the
+// single-process order (the median does not depend on it anyway).
+void tolerance_task(Run& run, const JsonValue& task) {
+    const int64_t tiles = integer(task, "tiles", "task");
+    std::vector<double> ratios;
+    for (int64_t t = 0; t < tiles; ++t) {
+        const std::string path = run.work.noise(t);
+        check_magic(path, kNoiseMagic);
+        int64_t count = 0;
+        read_file_at(path, 8, &count, 8);
+        if (count < 0 || count > (int64_t(1) << 40)) throw Error(Status::Io, "'" + path + "' has a bad header");
+        const size_t at = ratios.size();
+        ratios.resize(at + static_cast<size_t>(count));
+        read_file_at(path, 16, ratios.data() + at, static_cast<size_t>(count) * sizeof(double));
+        run.bytes_read += 16 + count * 8;
+    }
+    double noise_ratio = 0;
+    const double delta = detect_delta(run.options, std::move(ratios), &noise_ratio);
+    std::vector<char> out;
+    append(out, kToleranceMagic, 8);
+    append(out, &delta, 8);
+    append(out, &noise_ratio, 8);
+    write_whole(run.work.tolerance(), out);
+    run.bytes_written += static_cast<int64_t>(out.size());
+    run.results.set("delta", delta);
+    run.results.set("noise_ratio", noise_ratio);
+    run.outputs.push_back(run.work.tolerance());
+}
+
+std::pair<double, double> read_tolerance(Run& run) {
+    const std::string path = run.work.tolerance();
+    if (!fs::exists(path))
+        throw Error(Status::Io, "'" + path + "' is not there: run the tolerance task before the detect tasks");
+    check_magic(path, kToleranceMagic);
+    double v[2];
+    read_file_at(path, 8, v, sizeof v);
+    run.bytes_read += 24;
+    return {v[0], v[1]};
+}
+
+void detect_task(Run& run, const JsonValue& task) {
+    const double delta = read_tolerance(run).first;
+    const Band b = band_of(run, task);
+    const DetectBand found = detect_rows(b.rows(), run.options, delta, run.context.progress);
+    const Shape& s = found.mask->shape();
+    std::vector<char> out;
+    append(out, kBandMagic, 8);
+    for (int64_t v : {s.frames, s.height, s.width, found.flagged, found.unexplained, found.degree_sum, found.explained})
+        append(out, &v, 8);
+    const size_t header = out.size();
+    out.resize(header + static_cast<size_t>(s.frames * s.height * s.width));
+    char* mask = out.data() + header;
+    for (int64_t f = 0; f < s.frames; ++f)
+        for (int64_t y = 0; y < s.height; ++y)
+            for (int64_t x = 0; x < s.width; ++x) *mask++ = found.mask->at(f, y, x, 0) != 0.0f;
+    const std::string path = run.work.band(integer(task, "tile", "task"));
+    write_whole(path, out);
+    run.bytes_written += static_cast<int64_t>(out.size());
+    run.outputs.push_back(path);
+}
+
+// Writes every mask frame once (staged beside the mask pattern, each moved into place by one rename)
+// and the crop windows, from the bands' masks; the results are the detect filter's.
+void masks_task(Run& run, const JsonValue& task, int64_t index) {
+    const Shape& s = run.context.source->shape();
+    const auto frames = range(task, "frames", "task");
+    std::vector<std::pair<int64_t, int64_t>> tiles;
+    for (const JsonValue& t : member(run.plan, "tasks", "the plan").array())
+        if (t.find("phase")->string() == "detect") tiles.push_back(range(t, "rows", "task"));
+    int64_t flagged = 0, unexplained = 0, degree_sum = 0, explained = 0;
+    // Every band there before anything is staged (a task run before the detect tasks fails here).
+    for (size_t k = 0; k < tiles.size(); ++k) {
+        const std::string path = run.work.band(static_cast<int64_t>(k));
+        if (!fs::exists(path))
+            throw Error(Status::Io, "band " + std::to_string(k) + " ('" + path + "') is not there: run the detect tasks before the masks task");
+        check_magic(path, kBandMagic);
+        int64_t h[7];
+        read_file_at(path, 8, h, sizeof h);
+        if (h[0] != s.frames || h[1] != tiles[k].second - tiles[k].first || h[2] != s.width)
+            throw Error(Status::Io, "'" + path + "' does not match the plan's band " + std::to_string(k));
+        flagged += h[3], unexplained += h[4], degree_sum += h[5], explained += h[6];
+    }
+    const auto [delta, noise_ratio] = read_tolerance(run);
+
+    const std::string output = member(run.plan, "output", "the plan").string();
+    const std::string crops_path = member(run.plan, "crops", "the plan").string();
+    const CropOptions co = crop_options(run.context.filter->params());
+    CropPlan crops;
+    crops.width = s.width, crops.height = s.height, crops.frame_count = s.frames, crops.options = co;
+    // The mask frames as the single-process detect writes its mask result: one channel "mask".
+    Sequence attributes(Shape{s.frames, 1, 1, 1});
+    attributes.channel_names()[0] = "mask";
+    attributes.frame_numbers() = run.context.source->attributes().frame_numbers();
+    std::unique_ptr<FrameSink> sink;
+    std::string staging;
+    if (!output.empty()) {
+        staging = staging_dir(run.plan, index);
+        std::error_code ec;
+        fs::remove_all(staging, ec);  // what a killed run of this task left
+        fs::create_directories(staging);
+        sink = run.context.open_sink(staging + "/" + fs::path(output).filename().string(), attributes);
+    }
+    Sequence frame(Shape{1, s.height, s.width, 1});
+    std::vector<char> rows;
+    for (int64_t f = frames.first; f < frames.second; ++f) {
+        run.context.progress.report(0.9 * static_cast<double>(f - frames.first) / static_cast<double>(frames.second - frames.first), "masks");
+        for (size_t k = 0; k < tiles.size(); ++k) {
+            const auto [y0, y1] = tiles[k];
+            rows.resize(static_cast<size_t>((y1 - y0) * s.width));
+            read_file_at(run.work.band(static_cast<int64_t>(k)), kBandHeader + f * static_cast<int64_t>(rows.size()), rows.data(), rows.size());
+            run.bytes_read += static_cast<int64_t>(rows.size());
+            for (int64_t y = y0; y < y1; ++y)
+                for (int64_t x = 0; x < s.width; ++x) frame.at(0, y, x, 0) = rows[static_cast<size_t>((y - y0) * s.width + x)] ? 1.0f : 0.0f;
+        }
+        frame.frame_numbers() = {attributes.frame_numbers()[static_cast<size_t>(f)]};
+        for (FrameCrops& c : make_crop_plan(frame, co).frames) crops.frames.push_back(std::move(c));
+        if (sink) sink->write_frame(f, frame.data());
+    }
+    if (sink) {
+        sink->commit();
+        sink.reset();
+        const FramePattern staged(staging + "/" + fs::path(output).filename().string()), final_pattern(output);
+        for (int64_t f = frames.first; f < frames.second; ++f) {
+            const int64_t number = attributes.frame_numbers()[static_cast<size_t>(f)];
+            std::error_code ec;
+            fs::rename(staged.format(number), final_pattern.format(number), ec);
+            if (ec) throw Error(Status::Io, "cannot rename into '" + final_pattern.format(number) + "': " + ec.message());
+            run.outputs.push_back(final_pattern.format(number));
+            run.bytes_written += static_cast<int64_t>(fs::file_size(final_pattern.format(number), ec));
+        }
+        fs::remove_all(staging);
+    }
+    const std::string json = crop_plan_to_json(crops);
+    if (!crops_path.empty()) {
+        write_whole(crops_path, std::vector<char>(json.begin(), json.end()));
+        run.bytes_written += static_cast<int64_t>(json.size());
+        run.outputs.push_back(crops_path);
+    }
+    // The detect filter's results (lib/filters/detect_filter.cpp), from the bands' counts.
+    const double pixel_frames = static_cast<double>(s.frames * s.pixels());
+    Results& r = run.results;
+    r.set("source", std::string(detect_source_name(run.options.source)));
+    r.set("delta", delta);
+    r.set("noise_ratio", noise_ratio);
+    r.set("flagged_pixel_frames", static_cast<double>(flagged));
+    r.set("flagged_fraction", static_cast<double>(flagged) / pixel_frames);
+    r.set("window_count", static_cast<double>(crops.window_count()));
+    r.set("window_pixel_frames", static_cast<double>(crops.window_pixels()));
+    r.set("window_fraction", static_cast<double>(crops.window_pixels()) / pixel_frames);
+    r.set("frames_with_windows", static_cast<double>(crops.frames.size()));
+    r.set("mean_degree", explained ? static_cast<double>(degree_sum) / static_cast<double>(explained) : 0.0);
+    r.set("unexplained_fraction", static_cast<double>(unexplained) / static_cast<double>(s.pixels()));
+}
+
+}  // namespace
+
+std::string run_detect_task(const JsonValue& plan, int64_t index, const TaskContext& context) {
+    const int64_t count = plan_task_count(plan);
+    if (index < 0 || index >= count)
+        throw Error(Status::InvalidArgument, "task " + std::to_string(index) + " is not in the plan (tasks 0 to " +
+                                                 std::to_string(count - 1) + ")");
+    const JsonValue& task = plan.find("tasks")->array()[static_cast<size_t>(index)];
+    const std::string phase = member(task, "phase", "task " + std::to_string(index)).string();
+    const auto start = std::chrono::steady_clock::now();
+    const double cpu0 = cpu_seconds();
+    if (!context.filter || !context.source) throw Error(Status::Internal, "a detect task without its filter or input");
+    Run run{plan, context, Work{member(plan, "work", "the plan").string()}, {}, {}, 0, 0, {}, {}};
+    fs::create_directories(run.work.dir);
+    const int threads = resolve_threads(context.threads > 0 ? context.threads : static_cast<int>(integer(plan, "threads", "the plan")));
+    const ThreadLimit limit(threads);
+    run.options = detect_options(context.filter->params(), context.noisy != nullptr);
+    const Shape& s = context.source->shape();
+    check_detect_options(s, context.noisy ? &context.noisy->shape() : nullptr, run.options);
+    if (phase == "noise") noise_task(run, task);
+    else if (phase == "tolerance") tolerance_task(run, task);
+    else if (phase == "detect") detect_task(run, task);
+    else if (phase == "masks") masks_task(run, task, index);
+    else throw Error(Status::InvalidArgument, "task " + std::to_string(index) + " has an unknown phase '" + phase + "' for a detect plan");
+    context.progress.report(1.0, "done");
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    return write_task_report(run.work.report(index), index, phase, seconds, cpu_seconds() - cpu0, threads,
+                             run.pixels_read.load(), run.bytes_read, run.bytes_written, run.results, run.outputs);
+}
+
+}  // namespace statfilter
