@@ -125,3 +125,40 @@ def test_farm_submission_scripts_lay_the_phases_out(sample_noisy, tmp_path):
                               text=True, check=True).stdout
     assert deadline.count("Plugin=CommandLine") == 4 and deadline.count("JobDependencies=") == 3
     assert "<STARTFRAME>" in deadline
+
+
+def _mask_bytes(path):
+    """A mask frame's bytes without the header's capDate (the writer's clock)."""
+    import re
+    return re.sub(rb"capDate\x00string\x00....[0-9: ]{19}", b"", path.read_bytes(), flags=re.S)
+
+
+@pytest.mark.parametrize("cut", [["--tiles", "3"], ["--tile-rows", "7"], ["--tiles", "1"]], ids=" ".join)
+def test_detect_plan_and_tasks_give_the_detect_mask_and_crops(sample_noisy, tmp_path, cut):
+    den = tmp_path / "den.####.exr"
+    run("denoise", sample_noisy, den, "--method", "pca", "--firefly-z", "0", "--quiet")
+    run("detect", den, "--noisy", sample_noisy, "--mask", tmp_path / "single" / "m.####.exr",
+        "--crops", tmp_path / "single.json", "--quiet")
+    plan = tmp_path / "detect.plan.json"
+    proc = run("plan", "detect", den, "--noisy", sample_noisy, "--mask", tmp_path / "farm" / "m.####.exr",
+               "--crops", tmp_path / "farm.json", *cut, "-o", plan, "--quiet")
+    tasks = json.loads(plan.read_text())
+    assert tasks["kind"] == "detect" and int(proc.stdout) == len(tasks["tasks"])
+    assert not (tmp_path / "farm.json").exists()
+    shell_run(plan)
+    assert (tmp_path / "farm.json").read_bytes() == (tmp_path / "single.json").read_bytes()
+    single = sorted((tmp_path / "single").glob("m.*.exr"))
+    assert len(single) == 32
+    for p in single:
+        assert _mask_bytes(tmp_path / "farm" / p.name) == _mask_bytes(p), p.name
+    assert not [p for p in (tmp_path / "farm").iterdir() if p.name.startswith(".")]
+
+
+def test_detect_plan_usage_errors(sample_noisy, tmp_path):
+    assert "plan detect DENOISED" in run("plan", "--help").stdout
+    assert "--crops" in run("plan", "detect", "--help").stdout
+    err = run("plan", "detect", sample_noisy, "-o", tmp_path / "p.json", check_rc=2).stderr
+    assert "--mask" in err and "Traceback" not in err
+    err = run("plan", "detect", sample_noisy, "--noisy", sample_noisy, "--crops", tmp_path / "c.json",
+              "--degree", "40", "-o", tmp_path / "p.json", check_rc=None)
+    assert err.returncode != 0 and "degree" in err.stderr and not (tmp_path / "p.json").exists()
