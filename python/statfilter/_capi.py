@@ -289,6 +289,8 @@ FUNCTIONS = {
     "sf_plan_options_init": (None, [_P(sf_plan_options)]),
     "sf_plan_write": (sf_status, [sf_filter, c_char_p, _P(sf_read_options), c_char_p, _P(sf_write_options),
                                   _P(sf_run_options), _P(sf_plan_options), c_char_p]),
+    "sf_plan_write_detect": (sf_status, [sf_filter, c_char_p, c_char_p, _P(sf_read_options), c_char_p, c_char_p,
+                                         _P(sf_run_options), _P(sf_plan_options), c_char_p]),
     "sf_plan_task_count": (sf_status, [c_char_p, _P(c_int64)]),
     "sf_plan_run_task": (sf_status, [c_char_p, c_int64, _P(sf_run_options)]),
     # artifact detection, re-render list and merge

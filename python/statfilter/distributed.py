@@ -6,8 +6,13 @@ task per plan task with the plan's dependencies, and each worker runs its task t
 storage every worker shares. The output is the same as ``Filter(method, **params).run_files(input,
 output)`` (docs/distributed.md says where it is bit-identical and the bound where not).
 
+``detect(denoised, noisy, mask=..., crops=..., client=None, **params)`` does the same for artifact
+detection (sf_plan_write_detect): noise tasks per band, one tolerance task, detect tasks per band,
+one masks task; the mask frames and crops JSON are ``statfilter detect``'s. Without a client it runs
+the tasks here, one after another.
+
 Dask is an optional extra (``pip install statfilter[dask]``); importing this module works without it,
-calling denoise does not.
+calling denoise does not, nor detect with a client.
 """
 
 from __future__ import annotations
@@ -22,11 +27,11 @@ import time
 from typing import Any, Dict, List, Optional, Union
 
 from . import _capi
-from .errors import error_for
+from .errors import InvalidArgumentError, error_for
 from .filter import Filter
 from .sequence import _read_options, _write_options
 
-__all__ = ["denoise", "write_plan", "run_task"]
+__all__ = ["denoise", "detect", "write_plan", "write_detect_plan", "run_task"]
 
 
 def _memory_bytes(memory: Union[int, str, None]) -> int:
@@ -76,6 +81,34 @@ def write_plan(input: str, output: str, plan_path: str, method: Optional[str] = 
     if status != _capi.SF_OK:
         message = _capi.text(_capi.lib.sf_filter_last_error(flt._live())) or _capi.text(_capi.lib.sf_last_error())
         raise error_for(status, message)
+    with open(plan_path) as f:
+        return json.load(f)
+
+
+def write_detect_plan(denoised: str, noisy: Optional[str], plan_path: str, mask: Optional[str] = None,
+                      crops: Optional[str] = None, tiles: int = 0, tile_rows: int = 0, work_dir: Optional[str] = None,
+                      memory: Union[int, str, None] = None, threads: int = 0, channels: Any = None,
+                      frames: Any = None, **params: Any) -> Dict[str, Any]:
+    """Write the detect plan (as ``statfilter plan detect`` does) and return it (the parsed JSON)."""
+    with Filter("detect", **params) as flt:
+        run = _capi.sf_run_options()
+        _capi.lib.sf_run_options_init(ctypes.byref(run))
+        run.memory = _memory_bytes(memory)
+        run.threads = int(threads)
+        plan = _capi.sf_plan_options()
+        _capi.lib.sf_plan_options_init(ctypes.byref(plan))
+        plan.tiles, plan.tile_rows = int(tiles), int(tile_rows)
+        work = _capi.encode_path(work_dir) if work_dir else None
+        plan.work_dir = work
+        read, keep_read = _read_options(channels, frames)
+        status = _capi.lib.sf_plan_write_detect(
+            flt._live(), _capi.encode_path(denoised), _capi.encode_path(noisy) if noisy else None, ctypes.byref(read),
+            _capi.encode_path(mask) if mask else None, _capi.encode_path(crops) if crops else None,
+            ctypes.byref(run), ctypes.byref(plan), _capi.encode_path(plan_path))
+        del keep_read, work
+        if status != _capi.SF_OK:
+            message = _capi.text(_capi.lib.sf_filter_last_error(flt._live())) or _capi.text(_capi.lib.sf_last_error())
+            raise error_for(status, message)
     with open(plan_path) as f:
         return json.load(f)
 
@@ -143,29 +176,115 @@ def denoise(input: str, output: str, client: Any = None, method: Optional[str] =
         own_cluster = LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=":0")
         client = Client(own_cluster)
     try:
-        tag = os.path.basename(plan_dir)
-        futures: List[Any] = []
-        for task in plan["tasks"]:
-            after = [futures[i] for i in task["after"]]
-            futures.append(client.submit(run_task, plan_path, task["index"], memory, threads, *after,
-                                         key="statfilter-%s-%d-%s" % (task["phase"], task["index"], tag),
-                                         pure=False, retries=retries))
-        reports: List[Optional[Dict[str, Any]]] = [None] * len(futures)
-        index_of = {f.key: i for i, f in enumerate(futures)}
-        done = 0
-        for future in as_completed(futures):
-            i = index_of[future.key]
-            reports[i] = future.result()  # raises the task's error
-            done += 1
-            if progress:
-                _progress_line(done, len(futures), plan["tasks"][i]["phase"])
+        reports = _run_on_client(client, as_completed, plan, plan_path, os.path.basename(plan_dir), memory, threads,
+                                 retries, progress)
         finished = time.time()
         workers = len(client.scheduler_info().get("workers", {}))
     finally:
         if own_cluster is not None:
             client.close()
             own_cluster.close()
-    report = _report(plan, [r for r in reports if r is not None], planned - started, finished - planned, workers)
+    report = _report(plan, reports, planned - started, finished - planned, workers)
+    if not keep_work:
+        shutil.rmtree(plan_dir, ignore_errors=True)
+    else:
+        report["plan"] = plan_path
+    return report
+
+
+def _run_on_client(client: Any, as_completed: Any, plan: Dict[str, Any], plan_path: str, tag: str,
+                   memory: Union[int, str, None], threads: int, retries: int, progress: bool) -> List[Dict[str, Any]]:
+    """Submits one Dask task per plan task, each after the futures of the tasks its "after" list names
+    (tasks of one phase with nothing between them run in parallel); returns the reports in task order."""
+    futures: List[Any] = []
+    for task in plan["tasks"]:
+        after = [futures[i] for i in task["after"]]
+        futures.append(client.submit(run_task, plan_path, task["index"], memory, threads, *after,
+                                     key="statfilter-%s-%d-%s" % (task["phase"], task["index"], tag),
+                                     pure=False, retries=retries))
+    reports: List[Optional[Dict[str, Any]]] = [None] * len(futures)
+    index_of = {f.key: i for i, f in enumerate(futures)}
+    done = 0
+    for future in as_completed(futures):
+        i = index_of[future.key]
+        reports[i] = future.result()  # raises the task's error
+        done += 1
+        if progress:
+            _progress_line(done, len(futures), plan["tasks"][i]["phase"])
+    return [r for r in reports if r is not None]
+
+
+def _run_here(plan: Dict[str, Any], plan_path: str, memory: Union[int, str, None], threads: int,
+              progress: bool) -> List[Dict[str, Any]]:
+    """Runs every task of the plan in this process, in index order (each task's "after" tasks come
+    before it in the plan); returns the reports in task order."""
+    reports: List[Dict[str, Any]] = []
+    for task in plan["tasks"]:
+        if any(i >= task["index"] for i in task["after"]):
+            raise InvalidArgumentError("%s: task %d waits for a later task" % (plan_path, task["index"]))
+        reports.append(run_task(plan_path, task["index"], memory, threads))
+        if progress:
+            _progress_line(len(reports), len(plan["tasks"]), task["phase"])
+    return reports
+
+
+def detect(denoised: str, noisy: Optional[str], mask: Optional[str] = None, crops: Optional[str] = None,
+           client: Any = None, tiles: int = 0, tile_rows: int = 0, work_dir: Optional[str] = None,
+           memory: Union[int, str, None] = None, threads: Optional[int] = None, channels: Any = None,
+           frames: Any = None, retries: int = 3, progress: bool = True, keep_work: bool = False,
+           **params: Any) -> Dict[str, Any]:
+    """Detect the artifacts of the denoised EXR sequence `denoised` (made from the noisy render
+    `noisy`; None = without it, as ``statfilter detect`` without --noisy) as a plan of tasks, writing
+    the mask frames to `mask` and the crop windows (JSON) to `crops` (at least one of the two).
+
+    client:    a dask.distributed Client: the noise tasks run in parallel, then the tolerance task,
+               the detect tasks in parallel, then the masks task. None = every task here, in order
+               (Dask is not needed then).
+    **params:  the detect filter's parameters, as ``statfilter detect`` (degree, delta, window,
+               threshold, crop_padding, ...).
+    tiles, tile_rows: the bands of rows (sf_plan_options; default 256 rows a band).
+    work_dir:  where the plan and its work files go, on storage every worker sees (default: a hidden
+               directory beside the mask, or beside the crops without a mask; removed afterwards
+               unless keep_work).
+    memory, threads: each task's budget and threads (threads default: 1 on a client, one task per
+               worker thread; every core here).
+    retries:   times Dask reruns a task whose worker died (tasks are idempotent).
+    Returns the report as ``denoise`` does (kind "detect"); its results are the detect filter's
+    (flagged_fraction, window_count, delta, ...). The mask frames and crops JSON are those of
+    ``statfilter detect DENOISED --noisy NOISY --mask MASK --crops CROPS`` with the same parameters.
+    """
+    if not mask and not crops:
+        raise InvalidArgumentError("detect writes the mask (mask=...), the crop windows (crops=...) or both: give one")
+    as_completed = None
+    if client is not None:
+        try:
+            from distributed import as_completed
+        except ImportError as exc:  # the optional extra
+            raise ImportError("statfilter.distributed needs Dask: pip install statfilter[dask]") from exc
+    if threads is None:
+        threads = 1 if client is not None else 0
+    out_dir = os.path.dirname(os.path.abspath(mask if mask else crops))
+    os.makedirs(out_dir, exist_ok=True)
+    plan_dir = tempfile.mkdtemp(prefix=".statfilter-plan-", dir=work_dir or out_dir)
+    plan_path = os.path.join(plan_dir, "plan.json")
+    started = time.time()
+    try:
+        plan = write_detect_plan(denoised, noisy, plan_path, mask=mask, crops=crops, tiles=tiles, tile_rows=tile_rows,
+                                 work_dir=os.path.join(plan_dir, "work"), memory=memory, threads=threads,
+                                 channels=channels, frames=frames, **params)
+    except BaseException:
+        shutil.rmtree(plan_dir, ignore_errors=True)  # nothing was written but the empty plan directory
+        raise
+    planned = time.time()
+    if client is not None:
+        reports = _run_on_client(client, as_completed, plan, plan_path, os.path.basename(plan_dir), memory, threads,
+                                 retries, progress)
+        workers = len(client.scheduler_info().get("workers", {}))
+    else:
+        reports = _run_here(plan, plan_path, memory, threads, progress)
+        workers = 1
+    finished = time.time()
+    report = _report(plan, reports, planned - started, finished - planned, workers)
     if not keep_work:
         shutil.rmtree(plan_dir, ignore_errors=True)
     else:
@@ -188,7 +307,7 @@ def _report(plan: Dict[str, Any], reports: List[Dict[str, Any]], plan_seconds: f
         p["wall_seconds"] = p.pop("finished") - p.pop("started")
     results: Dict[str, Any] = {}
     for r in reports:
-        if r["phase"] in ("reduce", "reconstruct", "frames", "shot"):
+        if r["phase"] in ("reduce", "reconstruct", "frames", "shot", "tolerance", "masks"):
             for k, v in r["results"].items():
                 results.setdefault(k, v)
     return {

@@ -1,11 +1,15 @@
 """statfilter.distributed: the plan of tasks on a Dask LocalCluster of two worker processes, on a
 shared-data scene, against the single-process run of the same options; and with a worker killed
-in the middle of a task."""
+in the middle of a task. The detect plan on the shipped sample against `statfilter detect`."""
+import json
 import os
+import re
+import shutil
 import signal
 import subprocess
 import sys
 import threading
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -125,3 +129,78 @@ def test_a_worker_killed_mid_task_still_gives_the_same_complete_output(shared_da
     assert len(list((tmp_path / "dask").glob("o.*.exr"))) == 32
     assert not [p for p in (tmp_path / "dask").iterdir() if p.name.startswith(".")]
     assert np.array_equal(frames(out), frames(single))
+
+
+SAMPLE = Path(__file__).resolve().parents[2] / "sample" / "cornell_moving" / "spp0004" / "indirect.####.exr"
+
+
+def cli():
+    """The command-line tool (ctest sets STATFILTER_CLI), or skip."""
+    path = os.environ.get("STATFILTER_CLI") or shutil.which("statfilter")
+    if not path:
+        pytest.skip("the statfilter command-line tool is not here (STATFILTER_CLI)")
+    return path
+
+
+def mask_bytes(path):
+    """A mask frame's bytes without the header's capDate (the writer's clock)."""
+    return re.sub(rb"capDate\x00string\x00....[0-9: ]{19}", b"", path.read_bytes(), flags=re.S)
+
+
+@pytest.fixture(scope="module")
+def sample_detect(tmp_path_factory):
+    """The sample denoised (pca), and `statfilter detect` on it in one process: (dir, denoised pattern)."""
+    tool = cli()
+    d = tmp_path_factory.mktemp("detect")
+    den = d / "den" / "d.####.exr"
+    statfilter.Filter("pca", firefly_z=0).run_files(str(SAMPLE), str(den))
+    subprocess.run([tool, "detect", str(den), "--noisy", str(SAMPLE), "--mask", str(d / "single" / "m.####.exr"),
+                    "--crops", str(d / "single.json"), "--quiet"], check=True, timeout=300)
+    return d, den
+
+
+def assert_same_as_single(d, out, crops):
+    single = sorted((d / "single").glob("m.*.exr"))
+    assert len(single) == 32
+    assert sorted(p.name for p in out.glob("m.*.exr")) == [p.name for p in single]
+    for p in single:
+        assert mask_bytes(out / p.name) == mask_bytes(p), p.name
+    assert crops.read_bytes() == (d / "single.json").read_bytes()
+    assert not [p for p in out.iterdir() if p.name.startswith(".")]
+
+
+@needs_dask
+def test_detect_on_two_workers_gives_statfilter_detects_mask_and_crops(sample_detect, client):
+    d, den = sample_detect
+    out = d / "dask"
+    report = sd.detect(str(den), str(SAMPLE), mask=str(out / "m.####.exr"), crops=str(d / "dask.json"),
+                       client=client, tile_rows=40, progress=False)
+    assert report["kind"] == "detect" and report["workers"] == 2
+    assert {p: v["tasks"] for p, v in report["phases"].items()} == {"noise": 3, "tolerance": 1, "detect": 3, "masks": 1}
+    assert report["tasks"] == 8 and report["shape"]["frames"] == 32
+    assert_same_as_single(d, out, d / "dask.json")
+    windows = json.loads((d / "single.json").read_text())
+    assert report["results"]["window_count"] == sum(len(f["windows"]) for f in windows["frames"])
+    assert 0 < report["results"]["flagged_fraction"] < 1 and report["results"]["source"] == "residual"
+
+
+def test_detect_without_a_client_runs_here(sample_detect, capsys):
+    d, den = sample_detect
+    out = d / "here"
+    report = sd.detect(str(den), str(SAMPLE), mask=str(out / "m.####.exr"), crops=str(d / "here.json"), tiles=2)
+    assert report["workers"] == 1 and report["tasks"] == 2 + 1 + 2 + 1
+    assert_same_as_single(d, out, d / "here.json")
+    assert "statfilter: 6/6 tasks (masks)" in capsys.readouterr().err
+    assert not [p for p in d.iterdir() if p.name.startswith(".statfilter-plan-")]
+
+
+def test_detect_usage_errors(tmp_path):
+    missing = str(tmp_path / "nowhere" / "d.####.exr")
+    with pytest.raises(statfilter.NotFoundError, match="no files match '%s'" % re.escape(missing)):
+        sd.detect(missing, str(SAMPLE), crops=str(tmp_path / "c.json"), progress=False)
+    with pytest.raises(statfilter.InvalidArgumentError, match="mask=.*crops="):
+        sd.detect(str(SAMPLE), str(SAMPLE))
+    with pytest.raises(statfilter.InvalidArgumentError, match="degree"):
+        sd.detect(str(SAMPLE), str(SAMPLE), crops=str(tmp_path / "c.json"), degree=40, progress=False)
+    assert not (tmp_path / "c.json").exists()
+    assert not [p for p in tmp_path.iterdir() if p.name.startswith(".statfilter-plan-")]
