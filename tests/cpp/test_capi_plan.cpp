@@ -1,11 +1,15 @@
 // A run as a plan of tasks through the C ABI (sf_plan_*): the tasks run one after another give the
-// output of sf_filter_run; bad arguments are refused before anything is written.
+// output of sf_filter_run; bad arguments are refused before anything is written. The same for the
+// detect plan (sf_plan_write_detect) against sf_filter_execute of the detect filter.
 #include <statfilter/statfilter.h>
 
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <fstream>
 #include <random>
+#include <regex>
+#include <sstream>
 
 #include "capi_util.hpp"
 
@@ -35,6 +39,69 @@ Filt pca_filter() {
     EXPECT_SF_OK(sf_filter_create("pca", &f));
     EXPECT_SF_OK(sf_filter_set_string(f, "firefly_z", "0"));
     return Filt(f);
+}
+
+// A noisy shot of a smooth image (noisy.####.exr) and its "denoised" version (den.####.exr): the
+// smooth image but for a block 60% too bright in frames 5-7 (what detect should flag), 12 frames.
+struct DetectShot {
+    std::string noisy, denoised;
+};
+DetectShot write_detect_shot(const TempDir& dir) {
+    std::mt19937 rng(11);
+    std::normal_distribution<float> noise(0.0f, 0.05f);
+    auto clean = [](int64_t f, int64_t y, int64_t x, int64_t c) {
+        return 0.6f + 0.1f * static_cast<float>(c) + 0.01f * static_cast<float>(x + y) + 0.002f * static_cast<float>(f);
+    };
+    const sf_shape shape = shape_of(12, 16, 14, 3);
+    Seq noisy = filled_sequence(shape, [&](int64_t f, int64_t y, int64_t x, int64_t c) {
+        return clean(f, y, x, c) * (1.0f + noise(rng));
+    });
+    Seq den = filled_sequence(shape, [&](int64_t f, int64_t y, int64_t x, int64_t c) {
+        const bool block = f >= 5 && f <= 7 && y >= 4 && y < 11 && x >= 3 && x < 9;
+        return clean(f, y, x, c) * (block ? 1.6f : 1.0f);
+    });
+    const char* names[] = {"R", "G", "B"};
+    for (sf_sequence seq : {noisy.get(), den.get()}) {
+        for (int64_t c = 0; c < 3; ++c) EXPECT_SF_OK(sf_sequence_set_channel_name(seq, c, names[c]));
+        for (int64_t f = 0; f < shape.frames; ++f) EXPECT_SF_OK(sf_sequence_set_frame_number(seq, f, f + 1));
+    }
+    DetectShot shot{dir.file("noisy.####.exr"), dir.file("den.####.exr")};
+    const sf_write_options o = write_options(SF_PIXEL_FLOAT);
+    EXPECT_SF_OK(sf_sequence_write(noisy.get(), shot.noisy.c_str(), &o));
+    EXPECT_SF_OK(sf_sequence_write(den.get(), shot.denoised.c_str(), &o));
+    return shot;
+}
+
+Filt detect_filter() {
+    sf_filter f = nullptr;
+    EXPECT_SF_OK(sf_filter_create("detect", &f));
+    return Filt(f);
+}
+
+std::string read_text(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    std::ostringstream s;
+    s << in.rdbuf();
+    return s.str();
+}
+
+// The tasks of a plan's JSON text as the plan writer lays them out, one a line: index, phase and
+// the "after" list (as written, e.g. "0, 1, 2"), and the rows it reads ("" when it has none).
+struct PlanTask {
+    int64_t index;
+    std::string phase, after, read_rows;
+};
+std::vector<PlanTask> plan_tasks(const std::string& text) {
+    static const std::regex line(R"re(\{"index": (\d+), "phase": "(\w+)"(.*)"after": \[([0-9, ]*)\]\})re");
+    static const std::regex read_rows(R"re("read_rows": \[(\d+, \d+)\])re");
+    std::vector<PlanTask> tasks;
+    for (auto it = std::sregex_iterator(text.begin(), text.end(), line); it != std::sregex_iterator(); ++it) {
+        const std::string fields = (*it)[3];
+        std::smatch rows;
+        tasks.push_back({std::stoll((*it)[1]), (*it)[2], (*it)[4],
+                         std::regex_search(fields, rows, read_rows) ? rows[1].str() : std::string()});
+    }
+    return tasks;
 }
 
 }  // namespace
@@ -99,4 +166,134 @@ TEST(Plan, BadArgumentsAreRefusedBeforeAnythingIsWritten) {
     write_text_file(dir.file("not-a-plan.json"), "{\"tasks\": []}");
     expect_failure(sf_plan_task_count(dir.file("not-a-plan.json").c_str(), &count), SF_ERROR_INVALID_ARGUMENT,
                    {"not a statfilter plan"});
+}
+
+TEST(DetectPlan, TasksAndDependenciesThenTheSingleRunMaskAndCrops) {
+    TempDir dir;
+    const DetectShot shot = write_detect_shot(dir);
+    // The detect filter in one process on the same files.
+    Filt single = detect_filter();
+    Seq den = read_sequence(shot.denoised), noisy = read_sequence(shot.noisy);
+    sf_shape shape{};
+    ASSERT_SF_OK(sf_sequence_shape(den.get(), &shape));
+    Seq out = create_sequence(shape);
+    ASSERT_SF_OK(sf_filter_set_input(single.get(), "noisy", noisy.get()));
+    ASSERT_SF_OK(sf_filter_execute(single.get(), den.get(), out.get()));
+    sf_sequence mask_result = nullptr;
+    ASSERT_SF_OK(sf_filter_result_sequence(single.get(), "mask", &mask_result));
+    Seq single_mask(mask_result);
+    const char* single_crops = nullptr;
+    ASSERT_SF_OK(sf_filter_result_string(single.get(), "crops", &single_crops));
+    double flagged = 0;
+    ASSERT_SF_OK(sf_filter_result_float(single.get(), "flagged_pixel_frames", &flagged));
+    ASSERT_GT(flagged, 0);  // the block is found: the comparison below is not of two empty masks
+
+    Filt filter = detect_filter();
+    sf_plan_options po;
+    sf_plan_options_init(&po);
+    po.tile_rows = 6;  // bands of 6, 6 and 4 rows
+    const std::string plan = dir.file("detect.plan.json"), mask = dir.file("mask/m.####.exr"),
+                      crops = dir.file("crops/c.json");
+    ASSERT_SF_OK(sf_plan_write_detect(filter.get(), shot.denoised.c_str(), shot.noisy.c_str(), nullptr, mask.c_str(),
+                                      crops.c_str(), nullptr, &po, plan.c_str()));
+    EXPECT_FALSE(fs::exists(dir.file("mask/m.0001.exr")));
+    EXPECT_FALSE(fs::exists(crops));
+    const std::string text = read_text(plan);
+    EXPECT_NE(text.find("\"kind\": \"detect\""), std::string::npos) << text;
+    EXPECT_NE(text.find("\"noisy\": \"" + shot.noisy + "\""), std::string::npos) << text;
+    const std::smatch halo_match = [&] {
+        std::smatch m;
+        std::regex_search(text, m, std::regex(R"re("halo": (\d+))re"));
+        return m;
+    }();
+    ASSERT_FALSE(halo_match.empty()) << text;
+    const int64_t halo = std::stoll(halo_match[1]);
+    EXPECT_GT(halo, 0);
+
+    const std::vector<PlanTask> tasks = plan_tasks(text);
+    ASSERT_EQ(tasks.size(), 3u + 1u + 3u + 1u) << text;  // noise x3, tolerance, detect x3, masks
+    int64_t count = 0;
+    ASSERT_SF_OK(sf_plan_task_count(plan.c_str(), &count));
+    EXPECT_EQ(count, 8);
+    const std::vector<std::pair<std::string, std::string>> expected = {
+        {"noise", ""}, {"noise", ""}, {"noise", ""}, {"tolerance", "0, 1, 2"},
+        {"detect", "3"}, {"detect", "3"}, {"detect", "3"}, {"masks", "4, 5, 6"}};
+    const int64_t bands[3][2] = {{0, 6}, {6, 12}, {12, 16}};
+    for (size_t i = 0; i < tasks.size(); ++i) {
+        EXPECT_EQ(tasks[i].index, static_cast<int64_t>(i));
+        EXPECT_EQ(tasks[i].phase, expected[i].first) << "task " << i;
+        EXPECT_EQ(tasks[i].after, expected[i].second) << "task " << i;
+        if (tasks[i].phase == "noise" || tasks[i].phase == "detect") {
+            const auto& b = bands[(i < 3 ? i : i - 4)];
+            EXPECT_EQ(tasks[i].read_rows, std::to_string(std::max<int64_t>(0, b[0] - halo)) + ", " +
+                                              std::to_string(std::min<int64_t>(16, b[1] + halo)))
+                << "task " << i;
+        }
+    }
+
+    for (int64_t t = 0; t < count; ++t) ASSERT_SF_OK(sf_plan_run_task(plan.c_str(), t, nullptr));
+    Seq farm_mask = read_sequence(mask);
+    EXPECT_EQ(frame_numbers(farm_mask.get()), frame_numbers(den.get()));
+    EXPECT_EQ(channel_name(farm_mask.get(), 0), "mask");
+    EXPECT_EQ(samples_of(farm_mask.get()), samples_of(single_mask.get()));
+    EXPECT_EQ(read_text(crops), std::string(single_crops));
+    EXPECT_TRUE(fs::exists(dir.file("detect.plan.json.work/task-7.json")));
+}
+
+TEST(DetectPlan, BadArgumentsAreRefusedBeforeAnythingIsWritten) {
+    TempDir dir;
+    const DetectShot shot = write_detect_shot(dir);
+    const std::string plan = dir.file("plan.json"), mask = dir.file("m.####.exr"), crops = dir.file("c.json");
+    const char* den = shot.denoised.c_str();
+    const char* noisy = shot.noisy.c_str();
+    Filt filter = detect_filter();
+    expect_failure(sf_plan_write_detect(nullptr, den, noisy, nullptr, mask.c_str(), nullptr, nullptr, nullptr, plan.c_str()),
+                   SF_ERROR_INVALID_ARGUMENT, {"filter"});
+    Filt pca = pca_filter();
+    expect_failure(sf_plan_write_detect(pca.get(), den, noisy, nullptr, mask.c_str(), nullptr, nullptr, nullptr, plan.c_str()),
+                   SF_ERROR_INVALID_ARGUMENT, {"takes the \"detect\" filter", "pca"});
+    expect_failure(sf_plan_write_detect(filter.get(), den, noisy, nullptr, nullptr, nullptr, nullptr, nullptr, plan.c_str()),
+                   SF_ERROR_INVALID_ARGUMENT, {"mask_pattern", "crops_path"});
+    expect_failure(sf_plan_write_detect(filter.get(), nullptr, noisy, nullptr, mask.c_str(), nullptr, nullptr, nullptr,
+                                        plan.c_str()),
+                   SF_ERROR_INVALID_ARGUMENT, {"denoised_pattern"});
+    expect_failure(sf_plan_write_detect(filter.get(), den, noisy, nullptr, mask.c_str(), nullptr, nullptr, nullptr, nullptr),
+                   SF_ERROR_INVALID_ARGUMENT, {"plan_path"});
+    sf_run_options ro;
+    sf_run_options_init(&ro);
+    ro.overwrite = 1;
+    expect_failure(sf_plan_write_detect(filter.get(), den, noisy, nullptr, mask.c_str(), nullptr, &ro, nullptr, plan.c_str()),
+                   SF_ERROR_INVALID_ARGUMENT, {"overwrite"});
+    sf_plan_options po;
+    sf_plan_options_init(&po);
+    po.tiles = 2;
+    po.tile_rows = 3;
+    expect_failure(sf_plan_write_detect(filter.get(), den, noisy, nullptr, mask.c_str(), nullptr, nullptr, &po, plan.c_str()),
+                   SF_ERROR_INVALID_ARGUMENT, {"not both"});
+    const std::string missing = dir.file("nowhere/d.####.exr");
+    expect_failure(sf_plan_write_detect(filter.get(), missing.c_str(), noisy, nullptr, nullptr, crops.c_str(), nullptr,
+                                        nullptr, plan.c_str()),
+                   SF_ERROR_NOT_FOUND, {"no files match", missing});
+    EXPECT_SF_OK(sf_filter_set_string(filter.get(), "degree", "12"));  // 12 frames allow degree 11
+    expect_failure(sf_plan_write_detect(filter.get(), den, noisy, nullptr, nullptr, crops.c_str(), nullptr, nullptr,
+                                        plan.c_str()),
+                   SF_ERROR_INVALID_ARGUMENT, {"degree 12 needs at least 13 frames"});
+    EXPECT_NE(std::string(sf_filter_last_error(filter.get())).find("degree 12"), std::string::npos);
+    EXPECT_FALSE(fs::exists(plan));
+    EXPECT_FALSE(fs::exists(crops));
+    EXPECT_FALSE(fs::exists(dir.file("m.0001.exr")));
+
+    // A valid plan, its tasks out of order: each says which file of an earlier phase is missing.
+    EXPECT_SF_OK(sf_filter_set_string(filter.get(), "degree", "8"));
+    ASSERT_SF_OK(sf_plan_write_detect(filter.get(), den, noisy, nullptr, mask.c_str(), crops.c_str(), nullptr, nullptr,
+                                      plan.c_str()));
+    int64_t count = 0;
+    ASSERT_SF_OK(sf_plan_task_count(plan.c_str(), &count));
+    ASSERT_EQ(count, 4);  // 16 rows: one band of the default 256 rows
+    expect_failure(sf_plan_run_task(plan.c_str(), 4, nullptr), SF_ERROR_INVALID_ARGUMENT, {"task 4 is not in the plan"});
+    const sf_status masks_first = sf_plan_run_task(plan.c_str(), 3, nullptr);
+    EXPECT_EQ(masks_first, SF_ERROR_IO) << sf_last_error();
+    EXPECT_NE(std::string(sf_last_error()).find("run the detect tasks before the masks task"), std::string::npos)
+        << sf_last_error();
+    EXPECT_FALSE(fs::exists(crops));
 }
