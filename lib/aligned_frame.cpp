@@ -70,6 +70,41 @@ inline bool follow_vectors(const float* vectors, int64_t width, int64_t height, 
     return true;
 }
 
+// Frame t's guide within half a pixel of each averaged pixel, per channel: the lowest and highest of
+// the pixel's value and its midpoints with its 8 neighbours (lo, hi interleaved, pixel-major). A flow
+// is right to a fraction of a pixel at best, so a warped sample that lands inside this range is
+// consistent with frame t even on an edge or a texture; only the part beyond it counts as mismatch.
+// Without it an antialiased edge mismatches by its whole contrast and loses its samples, which a
+// slow pan pays for everywhere (camera_pan needed a lenient sigma that let a fast ball's wrong
+// samples in).
+std::vector<float> half_pixel_range(const float* guide, int64_t width, int64_t height, int64_t channels,
+                                    const std::vector<int64_t>& pixels) {
+    std::vector<float> range(pixels.size() * static_cast<size_t>(channels) * 2);
+    float* r = range.data();
+    for (const int64_t p : pixels) {
+        const int64_t x = p % width, y = p / width;
+        for (int64_t c = 0; c < channels; ++c, r += 2) {
+            const float g = guide[p * channels + c];
+            float lo = g, hi = g;
+            for (int64_t yy = std::max<int64_t>(0, y - 1); yy <= std::min(height - 1, y + 1); ++yy)
+                for (int64_t xx = std::max<int64_t>(0, x - 1); xx <= std::min(width - 1, x + 1); ++xx) {
+                    const float m = 0.5f * (g + guide[(yy * width + xx) * channels + c]);
+                    if (std::isfinite(m)) lo = std::min(lo, m), hi = std::max(hi, m);
+                }
+            r[0] = lo;
+            r[1] = hi;
+        }
+    }
+    return range;
+}
+
+// How far v lies outside [lo, hi] (NaN stays NaN: no weight).
+inline double outside(double v, const float* lo_hi) {
+    if (v > lo_hi[1]) return v - lo_hi[1];
+    if (v < lo_hi[0]) return lo_hi[0] - v;
+    return v == v ? 0.0 : v;
+}
+
 // The percentile the flow images are scaled by.
 constexpr double kGuideQuantile = 0.995;
 constexpr int64_t kGuideStride = 7;  // every 7th sample: plenty for a percentile, and cheap
@@ -171,9 +206,10 @@ AlignedAverager::AlignedAverager(const Shape& shape, std::vector<int64_t> pixels
 
 double AlignedAverager::working_bytes(const Shape& s, int64_t pixels) {
     const double n = static_cast<double>(pixels), P = static_cast<double>(s.pixels());
-    // sum (C doubles), weight, where (2 floats), tracked, by_vector; the flow (2 floats a pixel),
+    // sum (C doubles), weight, where (2 floats), tracked, by_vector, the guide's half-pixel range
+    // (2 C floats); the flow (2 floats a pixel),
     // DIS's upsampled fields (2 floats) and ~16 bytes a pixel of its pyramid and refinement.
-    return n * (static_cast<double>(s.channels) * sizeof(double) + sizeof(double) + 2 * sizeof(float) + 2) +
+    return n * (static_cast<double>(s.channels) * (sizeof(double) + 2 * sizeof(float)) + sizeof(double) + 2 * sizeof(float) + 2) +
            P * (2 * sizeof(float) + 2 * sizeof(float) + 16);
 }
 
@@ -196,18 +232,18 @@ double AlignedAverager::average(int64_t t, const AlignedWindow& window, float* o
     std::vector<uint8_t> tracked(n);     // still followed (vectors consistent so far)
     std::vector<uint8_t> by_vector(n);   // followed along the vectors, else the flow
     const float* gt = window.guide(t);
+    const std::vector<float> range = half_pixel_range(gt, s.width, s.height, C, pixels_);
     const auto accumulate = [&](int64_t f) {
         const float* vf = window.values(f);
         const float* gf = window.guide(f);
         for (size_t i = 0; i < n; ++i) {
             if (!tracked[i]) continue;  // occluded or uncovered on the way: not the same surface
-            const int64_t p = pixels_[i];
             const float fx = where[i][0], fy = where[i][1];
             if (!inside(s.width, s.height, where[i])) continue;  // outside frame f (NaN flow lands here too)
             double mismatch = 0;
             bool finite = true;
             for (int64_t c = 0; c < C; ++c) {
-                const double e = bilinear(gf, s.width, s.height, C, fx, fy, c) - gt[p * C + c];
+                const double e = outside(bilinear(gf, s.width, s.height, C, fx, fy, c), &range[(i * static_cast<size_t>(C) + static_cast<size_t>(c)) * 2]);
                 mismatch += e * e;
                 sample[static_cast<size_t>(c)] = bilinear(vf, s.width, s.height, C, fx, fy, c);
                 finite = finite && std::isfinite(sample[static_cast<size_t>(c)]);
