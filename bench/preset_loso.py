@@ -35,7 +35,7 @@ BALANCED = ["--method", "hybrid", "--mc_flow", "ultrafast"]  # --mc_half_width 4
 PRESETS = {
     "balanced": (BALANCED, {
         "mc_half_width": (["2", "4", "8"], "4"),
-        "mc_sigma": (["0.25", "0.5", "1"], "0.5"),
+        "mc_sigma": (["0.05", "0.1", "0.2"], "0.1"),
         "mc_dilate": (["2", "4", "8"], "4"),
         "change_z": (["3", "5", "8"], "5"),
     }),

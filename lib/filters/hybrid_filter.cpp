@@ -67,9 +67,10 @@ public:
                          "auto: average each moving pixel along optical flow (on the albedo/normal passes when "
                          "given, else on a first pass) instead of the moving basis and diffusion; off: never"),
             int_param("mc_half_width", "8", 1, 10000, "motion compensation: frames averaged on each side"),
-            float_param("mc_sigma", "0.5", 1e-6, 1e9,
+            float_param("mc_sigma", "0.1", 1e-6, 1e9,
                         "motion compensation: mismatch of a warped sample with the frame (first pass, relative "
-                        "log units) at which its weight falls to exp(-1/2)"),
+                        "log units, beyond what the frame takes within half a pixel) at which its weight falls "
+                        "to exp(-1/2)"),
             int_param("mc_dilate", "4", 0, 1000,
                       "motion compensation: the moving weight 1 - alpha is grown by a max filter of this radius "
                       "(pixels), so the rim of a moving region is aligned too"),

@@ -28,8 +28,11 @@ FlowPreset parse_flow_preset(const std::string& name);
 
 struct AlignedAverageOptions {
     int half_width = 8;       // frames on each side of t
-    double sigma = 0.5;       // mismatch of a warped sample's estimate with frame t's (root of the summed squared
-                              // channel differences, in log(1 + x / mean) units) at which its weight is exp(-1/2)
+    // Mismatch of a warped sample's estimate with frame t's at which its weight is exp(-1/2): the root of
+    // the summed squared channel distances, in log(1 + x / mean) units, of the warped value from the
+    // range frame t's estimate takes within half a pixel (a flow off by a fraction of a pixel on an
+    // edge is no mismatch).
+    double sigma = 0.1;
     ValueTransform transform = ValueTransform::Log;  // the domain the samples are averaged in
     FlowPreset flow = FlowPreset::Medium;
     // Optional global light level of each frame (empty = constant): samples are divided by their
