@@ -229,14 +229,8 @@ std::vector<TemporalOutlier> find_temporal_outliers(const Sequence& seq, Channel
             // the scores of the same rule (under a pan every value scores high, the residuals do not).
             const auto isolated_above = [&](const std::vector<float>& score, int64_t p) {
                 if (!(score[p] > o.z)) return false;
-                const int64_t y = p / s.width, x = p % s.width;
                 int neighbours = 0;
-                for (int64_t dy = -1; dy <= 1; ++dy)
-                    for (int64_t dx = -1; dx <= 1; ++dx) {
-                        const int64_t yy = y + dy, xx = x + dx;
-                        if ((dy || dx) && yy >= 0 && yy < s.height && xx >= 0 && xx < s.width && score[yy * s.width + xx] > half)
-                            ++neighbours;
-                    }
+                for_each_neighbour(p, s.width, s.height, [&](int64_t q) { neighbours += score[q] > half; });
                 return neighbours <= 1;  // else part of something that moves or changes: real
             };
             const auto finite = [&](int64_t p, int64_t c) {
