@@ -16,7 +16,7 @@ does), so that the hybrid's constants can be set. OIDN (quality high, colour onl
 scene and level for the ratios.
 
 Writes the tables between the results markers of docs/preset_loso.md (--doc) and the raw figures to
-docs/preset_loso.json. Usage:
+docs/preset_loso.json; a preset not swept (--presets) keeps its table and figures from the last run. Usage:
     python3 bench/preset_loso.py [--cli build/tools/statfilter] [--data ../shared/data] [--presets balanced,high]
 """
 
@@ -73,10 +73,10 @@ def sweep(runner, found, oidn, preset):
     return score
 
 
-def tables(report):
+def tables(report, commands):
     text = ""
     for preset, constants in report.items():
-        text += f"### `{preset}`\n\n"
+        text += f"### `{preset}`\n\nCommand: `{commands[preset]}`\n\n"
         text += ("| constant | default | picked on all scenes | held-out scene | picked on the others | held out: relMSE / OIDN "
                  "| in-sample pick: relMSE / OIDN | held-out / in-sample |\n|---|---|---|---|---|---|---|---|\n")
         for name, t in constants.items():
@@ -110,13 +110,23 @@ def main():
                 report[preset][name] = {"grid": grid, "default": default, "overall": overall, "rows": rows,
                                         "score": score[name]}
     doc = Path(args.doc)
+    # The presets not swept this time keep their tables from the last run, and each says what made it.
+    command = "python3 bench/preset_loso.py" + ("" if args.presets == ",".join(PRESETS) else f" --presets {args.presets}")
+    commands = {preset: command for preset in report}
+    previous = doc.with_suffix(".json")
+    if previous.exists():
+        kept = json.loads(previous.read_text())
+        for preset in PRESETS:
+            if preset not in report and preset in kept.get("results", {}):
+                report[preset] = kept["results"][preset]
+                commands[preset] = kept["commands"][preset]
+    report = {preset: report[preset] for preset in PRESETS if preset in report}
     text = doc.read_text()
     head, rest = text.split(BEGIN)
     _, tail = rest.split(END)
-    command = "python3 bench/preset_loso.py" + ("" if args.presets == ",".join(PRESETS) else f" --presets {args.presets}")
-    doc.write_text(head + BEGIN + f"\n\nCommand: `{command}`\n\n" + tables(report) + END + tail)
-    doc.with_suffix(".json").write_text(json.dumps(report, indent=1) + "\n")
-    print(tables(report))
+    doc.write_text(head + BEGIN + "\n\n" + tables(report, commands) + END + tail)
+    previous.write_text(json.dumps({"commands": commands, "results": report}, indent=1) + "\n")
+    print(tables(report, commands))
 
 
 if __name__ == "__main__":
