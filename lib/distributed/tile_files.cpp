@@ -1,9 +1,11 @@
 #include "distributed/tile_files.hpp"
 
 #include <fcntl.h>
+#include <signal.h>
 #include <unistd.h>
 
 #include <cerrno>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 
@@ -19,16 +21,39 @@ std::string system_error(const std::string& what, const std::string& path) {
     return what + " '" + path + "': " + std::strerror(errno);
 }
 
-// The temporary is named by host and process: two nodes running the same task never share one.
-std::string temporary_name(const std::string& path) {
+std::string host_name() {
     char host[256] = {};
     if (::gethostname(host, sizeof host - 1) != 0) host[0] = '\0';
-    return path + ".tmp-" + host + "-" + std::to_string(::getpid());
+    return host;
+}
+
+// The temporary is named by host and process: two nodes running the same task never share one.
+std::string temporary_name(const std::string& path) { return path + ".tmp-" + host_name() + "-" + std::to_string(::getpid()); }
+
+// Temporaries of `path` that processes of this host left when they died (a task killed, as a farm
+// preempts one): the task run again removes them. Another host's are left alone (whether their
+// process is alive cannot be told from here), as is any whose process is alive.
+void remove_stale_temporaries(const std::string& path) {
+    const fs::path p(path);
+    const std::string prefix = p.filename().string() + ".tmp-" + host_name() + "-";
+    std::error_code ec;
+    for (const auto& entry : fs::directory_iterator(p.parent_path().empty() ? fs::path(".") : p.parent_path(), ec)) {
+        const std::string name = entry.path().filename().string();
+        if (name.compare(0, prefix.size(), prefix) != 0) continue;
+        char* end = nullptr;
+        const long pid = std::strtol(name.c_str() + prefix.size(), &end, 10);
+        if (pid <= 0 || !end || *end != '\0' || pid == ::getpid()) continue;
+        if (::kill(static_cast<pid_t>(pid), 0) != 0 && errno == ESRCH) {
+            std::error_code rm;
+            fs::remove(entry.path(), rm);
+        }
+    }
 }
 
 }  // namespace
 
 AtomicFile::AtomicFile(const std::string& path) : path_(path), temporary_(temporary_name(path)) {
+    remove_stale_temporaries(path);
     fd_ = ::open(temporary_.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
     if (fd_ < 0) throw Error(Status::Io, system_error("cannot create", temporary_));
 }

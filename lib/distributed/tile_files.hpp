@@ -28,7 +28,9 @@ TileStatistics read_tile_statistics(const std::string& path);
 // Bytes of the file write_tile_statistics makes.
 int64_t tile_statistics_bytes(const TileStatistics& statistics);
 
-// Writes the whole file at `path` atomically: bytes go to a temporary and are renamed into place.
+// Writes the whole file at `path` atomically: bytes go to a temporary (PATH.tmp-HOST-PID) and are
+// renamed into place. Opening one removes the temporaries of `path` that dead processes of this
+// host left (a killed task run again leaves nothing behind).
 class AtomicFile {
 public:
     explicit AtomicFile(const std::string& path);
