@@ -5,22 +5,12 @@
 #include <sstream>
 #include <vector>
 
+#include "distributed/plan_json.hpp"
 #include "filters/detect_filter.hpp"
 #include "pipeline/memory_budget.hpp"
 #include "statfilter/error.hpp"
 
 namespace statfilter {
-namespace {
-
-std::string range_json(int64_t a, int64_t b) { return "[" + std::to_string(a) + ", " + std::to_string(b) + "]"; }
-
-std::string list_json(const std::vector<int64_t>& v) {
-    std::string s = "[";
-    for (size_t i = 0; i < v.size(); ++i) s += (i ? ", " : "") + std::to_string(v[i]);
-    return s + "]";
-}
-
-}  // namespace
 
 std::string make_detect_plan(const Filter& filter, const FrameSource& denoised, const FrameSource* noisy,
                              const DetectPlanRequest& request) {

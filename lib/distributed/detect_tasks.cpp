@@ -41,12 +41,6 @@ struct Run {
     std::vector<std::string> outputs;
 };
 
-void write_whole(const std::string& path, const std::vector<char>& bytes) {
-    AtomicFile file(path);
-    file.write_at(0, bytes.data(), bytes.size());
-    file.commit();
-}
-
 void append(std::vector<char>& out, const void* p, size_t n) {
     out.insert(out.end(), static_cast<const char*>(p), static_cast<const char*>(p) + n);
 }
@@ -96,7 +90,7 @@ void noise_task(Run& run, const JsonValue& task) {
     append(out, &count, 8);
     append(out, ratios.data(), ratios.size() * sizeof(double));
     const std::string path = run.work.noise(integer(task, "tile", "task"));
-    write_whole(path, out);
+    write_file(path, out.data(), out.size());
     run.bytes_written += static_cast<int64_t>(out.size());
     run.outputs.push_back(path);
 }
@@ -123,7 +117,7 @@ void tolerance_task(Run& run, const JsonValue& task) {
     append(out, kToleranceMagic, 8);
     append(out, &delta, 8);
     append(out, &noise_ratio, 8);
-    write_whole(run.work.tolerance(), out);
+    write_file(run.work.tolerance(), out.data(), out.size());
     run.bytes_written += static_cast<int64_t>(out.size());
     run.results.set("delta", delta);
     run.results.set("noise_ratio", noise_ratio);
@@ -157,7 +151,7 @@ void detect_task(Run& run, const JsonValue& task) {
         for (int64_t y = 0; y < s.height; ++y)
             for (int64_t x = 0; x < s.width; ++x) *mask++ = found.mask->at(f, y, x, 0) != 0.0f;
     const std::string path = run.work.band(integer(task, "tile", "task"));
-    write_whole(path, out);
+    write_file(path, out.data(), out.size());
     run.bytes_written += static_cast<int64_t>(out.size());
     run.outputs.push_back(path);
 }
@@ -235,7 +229,7 @@ void masks_task(Run& run, const JsonValue& task, int64_t index) {
     }
     const std::string json = crop_plan_to_json(crops);
     if (!crops_path.empty()) {
-        write_whole(crops_path, std::vector<char>(json.begin(), json.end()));
+        write_file(crops_path, json.data(), json.size());
         run.bytes_written += static_cast<int64_t>(json.size());
         run.outputs.push_back(crops_path);
     }

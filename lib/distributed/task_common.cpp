@@ -36,9 +36,7 @@ std::string write_task_report(const std::string& path, int64_t index, const std:
     for (size_t i = 0; i < outputs.size(); ++i) report << (i ? ", " : "") << json_quote(outputs[i]);
     report << "]}\n";
     const std::string text = report.str();
-    AtomicFile file(path);
-    file.write_at(0, text.data(), text.size());
-    file.commit();
+    write_file(path, text.data(), text.size());
     return text;
 }
 

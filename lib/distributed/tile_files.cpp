@@ -83,6 +83,12 @@ void AtomicFile::commit() {
     temporary_.clear();
 }
 
+void write_file(const std::string& path, const void* data, size_t bytes) {
+    AtomicFile file(path);
+    file.write_at(0, data, bytes);
+    file.commit();
+}
+
 void read_file_at(const std::string& path, int64_t offset, void* data, size_t bytes) {
     const int fd = ::open(path.c_str(), O_RDONLY);
     if (fd < 0) throw Error(Status::Io, system_error("cannot open", path) + " (has the task that writes it run?)");
@@ -125,9 +131,7 @@ void write_tile_statistics(const std::string& path, const TileStatistics& s) {
             put(g.basis.vectors.data(), FF * 8);
         }
     }
-    AtomicFile file(path);
-    file.write_at(0, out.data(), out.size());
-    file.commit();
+    write_file(path, out.data(), out.size());
 }
 
 TileStatistics read_tile_statistics(const std::string& path) {

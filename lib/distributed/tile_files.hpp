@@ -46,6 +46,9 @@ private:
     int fd_ = -1;
 };
 
+// Writes the whole file at path atomically (an AtomicFile written once and committed).
+void write_file(const std::string& path, const void* data, size_t bytes);
+
 // Reads `bytes` at `offset` of the file at path; names the file when it is missing or short.
 void read_file_at(const std::string& path, int64_t offset, void* data, size_t bytes);
 

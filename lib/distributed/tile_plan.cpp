@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <sstream>
 
+#include "distributed/plan_json.hpp"
 #include "filters/frame_stages.hpp"
 #include "pipeline/low_rank_stage.hpp"
 #include "pipeline/memory_budget.hpp"
@@ -12,14 +13,6 @@
 
 namespace statfilter {
 namespace {
-
-std::string range_json(int64_t a, int64_t b) { return "[" + std::to_string(a) + ", " + std::to_string(b) + "]"; }
-
-std::string list_json(const std::vector<int64_t>& v) {
-    std::string s = "[";
-    for (size_t i = 0; i < v.size(); ++i) s += (i ? ", " : "") + std::to_string(v[i]);
-    return s + "]";
-}
 
 struct Task {
     std::string phase;

@@ -27,7 +27,7 @@ import time
 from typing import Any, Dict, List, Optional, Union
 
 from . import _capi
-from .errors import InvalidArgumentError, error_for
+from .errors import InvalidArgumentError, check, error_for
 from .filter import Filter
 from .sequence import _read_options, _write_options
 
@@ -57,30 +57,37 @@ def _method(method: Optional[str], params: Dict[str, Any]) -> str:
     return "hybrid" if params.get("prefilter") else "auto"
 
 
-def write_plan(input: str, output: str, plan_path: str, method: Optional[str] = None, tiles: int = 0,
-               tile_rows: int = 0, frames_per_task: int = 0, work_dir: Optional[str] = None,
-               memory: Union[int, str, None] = None, threads: int = 0, channels: Any = None, frames: Any = None,
-               pixel_type: str = "half", compression: str = "zip", **params: Any) -> Dict[str, Any]:
-    """Write the plan of tasks (as ``statfilter plan`` does) and return it (the parsed JSON)."""
-    flt = Filter(_method(method, params), **params)
+def _plan_options(memory: Union[int, str, None], threads: int, tiles: int, tile_rows: int,
+                  work_dir: Optional[str]) -> Any:
+    """The run and plan option structs of a plan writer, and the encoded work folder they point at
+    (keep it alive until the C call returns)."""
     run = _capi.sf_run_options()
     _capi.lib.sf_run_options_init(ctypes.byref(run))
     run.memory = _memory_bytes(memory)
     run.threads = int(threads)
     plan = _capi.sf_plan_options()
     _capi.lib.sf_plan_options_init(ctypes.byref(plan))
-    plan.tiles, plan.tile_rows, plan.frames_per_task = int(tiles), int(tile_rows), int(frames_per_task)
+    plan.tiles, plan.tile_rows = int(tiles), int(tile_rows)
     work = _capi.encode_path(work_dir) if work_dir else None
     plan.work_dir = work
+    return run, plan, work
+
+
+def write_plan(input: str, output: str, plan_path: str, method: Optional[str] = None, tiles: int = 0,
+               tile_rows: int = 0, frames_per_task: int = 0, work_dir: Optional[str] = None,
+               memory: Union[int, str, None] = None, threads: int = 0, channels: Any = None, frames: Any = None,
+               pixel_type: str = "half", compression: str = "zip", **params: Any) -> Dict[str, Any]:
+    """Write the plan of tasks (as ``statfilter plan`` does) and return it (the parsed JSON)."""
+    flt = Filter(_method(method, params), **params)
+    run, plan, work = _plan_options(memory, threads, tiles, tile_rows, work_dir)
+    plan.frames_per_task = int(frames_per_task)
     read, keep_read = _read_options(channels, frames)
     write, keep_write = _write_options(pixel_type, compression)
     status = _capi.lib.sf_plan_write(flt._live(), _capi.encode_path(input), ctypes.byref(read),
                                      _capi.encode_path(output), ctypes.byref(write), ctypes.byref(run),
                                      ctypes.byref(plan), _capi.encode_path(plan_path))
+    check(status, flt._live())
     del keep_read, keep_write, work
-    if status != _capi.SF_OK:
-        message = _capi.text(_capi.lib.sf_filter_last_error(flt._live())) or _capi.text(_capi.lib.sf_last_error())
-        raise error_for(status, message)
     with open(plan_path) as f:
         return json.load(f)
 
@@ -91,24 +98,14 @@ def write_detect_plan(denoised: str, noisy: Optional[str], plan_path: str, mask:
                       frames: Any = None, **params: Any) -> Dict[str, Any]:
     """Write the detect plan (as ``statfilter plan detect`` does) and return it (the parsed JSON)."""
     with Filter("detect", **params) as flt:
-        run = _capi.sf_run_options()
-        _capi.lib.sf_run_options_init(ctypes.byref(run))
-        run.memory = _memory_bytes(memory)
-        run.threads = int(threads)
-        plan = _capi.sf_plan_options()
-        _capi.lib.sf_plan_options_init(ctypes.byref(plan))
-        plan.tiles, plan.tile_rows = int(tiles), int(tile_rows)
-        work = _capi.encode_path(work_dir) if work_dir else None
-        plan.work_dir = work
+        run, plan, work = _plan_options(memory, threads, tiles, tile_rows, work_dir)
         read, keep_read = _read_options(channels, frames)
         status = _capi.lib.sf_plan_write_detect(
             flt._live(), _capi.encode_path(denoised), _capi.encode_path(noisy) if noisy else None, ctypes.byref(read),
             _capi.encode_path(mask) if mask else None, _capi.encode_path(crops) if crops else None,
             ctypes.byref(run), ctypes.byref(plan), _capi.encode_path(plan_path))
+        check(status, flt._live())
         del keep_read, work
-        if status != _capi.SF_OK:
-            message = _capi.text(_capi.lib.sf_filter_last_error(flt._live())) or _capi.text(_capi.lib.sf_last_error())
-            raise error_for(status, message)
     with open(plan_path) as f:
         return json.load(f)
 
