@@ -8,6 +8,8 @@
 #include <cstdint>
 #include <cstring>
 
+#include "statfilter/vector_clones.hpp"
+
 namespace statfilter {
 namespace fast_math {
 
@@ -127,14 +129,7 @@ inline __attribute__((always_inline)) void signed_log_transform(double* v, size_
 
 }  // namespace
 
-// Four lanes where the CPU has AVX2, two (SSE2) elsewhere, chosen when the library loads. No FMA in
-// either, so both give the same bits. Not under ThreadSanitizer: the clones' resolver runs before
-// its runtime is up and crashes the process.
-#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && !defined(__SANITIZE_THREAD__)
-#define SF_VECTOR_CLONES __attribute__((target_clones("avx2", "default")))
-#else
-#define SF_VECTOR_CLONES
-#endif
+// Four lanes where the CPU has AVX2, two (SSE2) elsewhere (statfilter/vector_clones.hpp).
 SF_VECTOR_CLONES void signed_log1p(double* v, size_t n, double inv) { signed_log_transform<true>(v, n, inv); }
 SF_VECTOR_CLONES void signed_expm1(double* v, size_t n, double scale) { signed_log_transform<false>(v, n, scale); }
 SF_VECTOR_CLONES void exp_of_negative(double* v, size_t n) {

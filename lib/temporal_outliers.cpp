@@ -2,58 +2,14 @@
 
 #include <algorithm>
 #include <cmath>
-#include <tuple>
-#include <utility>
 
 #include "pipeline/parallel.hpp"
 #include "statfilter/nonfinite.hpp"
+#include "statfilter/robust_series.hpp"
 
 namespace statfilter {
 
 namespace {
-
-double median_of(std::vector<double>& v) {
-    const size_t n = v.size(), mid = n / 2;
-    std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(mid), v.end());
-    double m = v[mid];
-    if (n % 2 == 0) m = 0.5 * (m + *std::max_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(mid)));
-    return m;
-}
-
-// A series' median and its median absolute deviation from it, as median_of gives them (the same order
-// statistics, so the same values), from one sort: the deviations are two sorted runs outward from the
-// median, merged only as far as their middle. `v` is reordered. A series with a non-finite sample has
-// no order to sort by: median_of twice, as before.
-std::pair<double, double> median_and_deviation(std::vector<double>& v) {
-    const size_t n = v.size(), mid = n / 2;
-    if (!std::all_of(v.begin(), v.end(), [](double x) { return std::isfinite(x); })) {
-        const double m = median_of(v);
-        for (double& x : v) x = std::fabs(x - m);
-        return {m, median_of(v)};
-    }
-    if (n <= 64) {
-        // A shot's series are short: insertion sort beats introsort there (16% on 32 frames).
-        for (size_t a = 1; a < n; ++a) {
-            const double x = v[a];
-            size_t b = a;
-            for (; b > 0 && v[b - 1] > x; --b) v[b] = v[b - 1];
-            v[b] = x;
-        }
-    } else {
-        std::sort(v.begin(), v.end());
-    }
-    const double m = n % 2 ? v[mid] : 0.5 * (v[mid] + v[mid - 1]);
-    // Left run: v[i] for i = split - 1 down to 0; right run: v[j] for j = split up; both in rising |v - m|.
-    const size_t split = static_cast<size_t>(std::lower_bound(v.begin(), v.end(), m) - v.begin());
-    size_t i = split, j = split;
-    double previous = 0, current = 0;
-    for (size_t k = 0; k <= mid; ++k) {
-        const bool take_left = i > 0 && (j >= n || std::fabs(v[i - 1] - m) <= std::fabs(v[j] - m));
-        previous = current;
-        current = take_left ? std::fabs(v[--i] - m) : std::fabs(v[j++] - m);
-    }
-    return {m, n % 2 ? current : 0.5 * (current + previous)};
-}
 
 // Visits a pixel's neighbours among the 8 around p inside the frame (3 at a corner).
 template <class Visit>
@@ -96,8 +52,9 @@ double second_brightest_neighbour(int64_t p, int64_t width, int64_t height, At&&
 void residuals_above_neighbours(const double* u, int64_t u_first, int64_t first, int64_t count, int64_t width,
                                 int64_t height, int64_t C, double* out) {
     const int64_t offsets[8] = {-width - 1, -width, -width + 1, -1, 1, width - 1, width, width + 1};
+    // p's row and column are stepped along with it rather than divided out of it per sample.
+    int64_t y = first / width, x = first % width;
     for (int64_t p = first; p < first + count; ++p) {
-        const int64_t y = p / width, x = p % width;
         const bool interior = y > 0 && y + 1 < height && x > 0 && x + 1 < width;
         for (int64_t c = 0; c < C; ++c) {
             const double* at = u + (p - u_first) * C + c;
@@ -108,7 +65,7 @@ void residuals_above_neighbours(const double* u, int64_t u_first, int64_t first,
                 bool finite = true;
                 for (int64_t k = 0; k < 8; ++k) {
                     const double a = at[offsets[k] * C];
-                    finite = finite && std::isfinite(a);
+                    finite = finite & std::isfinite(a);  // no branch: the loop stays straight
                     second_v = std::max(second_v, std::min(first_v, a));
                     first_v = std::max(first_v, a);
                 }
@@ -118,6 +75,7 @@ void residuals_above_neighbours(const double* u, int64_t u_first, int64_t first,
             }
             out[(p - first) * C + c] = *at - second;
         }
+        if (++x == width) x = 0, ++y;
     }
 }
 
@@ -140,6 +98,7 @@ double neighbour_median(int64_t p, int64_t width, int64_t height, At&& at) {
 // The floor of a set of robust deviations: their median over the series that vary.
 double deviation_floor(const std::vector<float>& deviation) {
     std::vector<double> positive;
+    positive.reserve(deviation.size());
     for (float d : deviation)
         if (d > 0 && std::isfinite(d)) positive.push_back(d);
     return positive.empty() ? 0.0 : median_of(positive);
@@ -164,31 +123,29 @@ std::vector<TemporalOutlier> find_temporal_outliers(const Sequence& seq, Channel
     const double halo_bytes = static_cast<double>(2 * s.width + 2) * static_cast<double>(F * C) * sizeof(double);
     const std::vector<PixelRange> tiles =
         make_pixel_tiles(s, C, std::max(0.0, o.budget_bytes / resolve_threads(0) - halo_bytes), 2);
-    parallel_for(static_cast<int64_t>(tiles.size()), resolve_threads(0), [&](int64_t t) {
+    // A worker's tile buffers are made once: the tiles are the same size but the last.
+    struct TileBuffers {
+        std::vector<double> tile, residuals;
+    };
+    const auto tile_count = static_cast<int64_t>(tiles.size());
+    std::vector<TileBuffers> buffers(static_cast<size_t>(worker_count(tile_count, resolve_threads(0))));
+    parallel_for_workers(tile_count, resolve_threads(0), [&](int64_t t, int worker) {
         const PixelRange range = tiles[static_cast<size_t>(t)];
         const PixelRange wide{std::max<int64_t>(0, range.begin - s.width - 1), std::min(P, range.end + s.width + 1)};
         const int64_t n = range.size() * C, wn = wide.size() * C, skip = (range.begin - wide.begin) * C;
-        std::vector<double> tile(static_cast<size_t>(F * wn)), residuals(static_cast<size_t>(F * n));
-        std::vector<double> series(static_cast<size_t>(F)), residual(series.size());
+        std::vector<double>& tile = buffers[static_cast<size_t>(worker)].tile;
+        std::vector<double>& residuals = buffers[static_cast<size_t>(worker)].residuals;
+        tile.resize(static_cast<size_t>(F * wn));
+        residuals.resize(static_cast<size_t>(F * n));
         gather_tile(seq, wide, group, tile.data());
         if (o.repair_nonfinite) repair_nonfinite(tile.data(), F, wn);
         forward_transform(o.transform, o.scale, tile.data(), tile.size());
         for (int64_t f = 0; f < F; ++f)
             residuals_above_neighbours(tile.data() + f * wn, wide.begin, range.begin, range.size(), s.width, s.height, C,
                                        residuals.data() + f * n);
-        for (int64_t j = 0; j < n; ++j) {
-            for (int64_t f = 0; f < F; ++f) {
-                series[f] = tile[f * wn + skip + j];
-                residual[f] = residuals[f * n + j];
-            }
-            const int64_t g = range.begin * C + j;
-            for (auto [values, m_out, d_out] : {std::tuple{&series, &median, &deviation},
-                                                std::tuple{&residual, &residual_median, &residual_deviation}}) {
-                const auto [m, mad] = median_and_deviation(*values);
-                (*m_out)[g] = static_cast<float>(m);
-                (*d_out)[g] = static_cast<float>(1.4826 * mad);
-            }
-        }
+        const int64_t g = range.begin * C;
+        medians_and_deviations(tile.data() + skip, wn, F, n, 1.4826, median.data() + g, deviation.data() + g);
+        medians_and_deviations(residuals.data(), n, F, n, 1.4826, residual_median.data() + g, residual_deviation.data() + g);
     }, {Progress(), 0, 1, "fireflies"});
     const double floor = deviation_floor(deviation), residual_floor = deviation_floor(residual_deviation);
     if (!(floor > 0)) return found;  // (nearly) every series constant: nothing to measure against

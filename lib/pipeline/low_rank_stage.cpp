@@ -211,6 +211,7 @@ PreparedSeries& LowRankStatistics::series(size_t g, const Sequence& band, int64_
     const int64_t first = y0 * band.shape().width * groups[g].group.count;
     cached[g] = std::make_unique<PreparedSeries>(band, groups[g].group, groups[g].prep, tile_budget, 3,
                                                  fireflies_known ? &fireflies[g] : nullptr, first);
+    cached[g]->lend_spare(spare_tile.get());
     if (!fireflies_known)
         for (TemporalOutlier o : cached[g]->outliers()) {
             o.series += first;
@@ -322,6 +323,7 @@ void LowRankStage::reconstruct(const FrameSource& source, LowRankStatistics stat
         }
         for (auto& c : cached) c.reset();
     }
+    stats.spare_tile.reset();
     if (options_.per_pixel)
         for (GroupModel& m : models) {
             choose_pixel_ranks(m, options_, s);
@@ -356,9 +358,16 @@ void LowRankStage::reconstruct(const FrameSource& source, LowRankStatistics stat
     }
 
     // Each frame rebuilt on its own, x_t = mu + sum_i V[t, i] a_i, undone from the transform.
-    parallel_for(F, ctx.threads, [&](int64_t t) {
-        std::vector<float> frame(static_cast<size_t>(P * s.channels));
+    // A worker's frame is made once (every channel of it is rewritten for each frame).
+    struct RebuildBuffers {
+        std::vector<float> frame;
         std::vector<double> values;
+    };
+    std::vector<RebuildBuffers> rebuild_buffers(static_cast<size_t>(worker_count(F, ctx.threads)));
+    parallel_for_workers(F, ctx.threads, [&](int64_t t, int worker) {
+        std::vector<float>& frame = rebuild_buffers[static_cast<size_t>(worker)].frame;
+        std::vector<double>& values = rebuild_buffers[static_cast<size_t>(worker)].values;
+        frame.resize(static_cast<size_t>(P * s.channels));
         constexpr double lim = std::numeric_limits<float>::max();
         for (const GroupModel& m : models) {
             const int64_t count = m.group.count, n_total = static_cast<int64_t>(m.means.size());

@@ -62,6 +62,9 @@ struct LowRankStatistics {
     std::vector<float> buffer;    // the band read (when the source does not hold the shot)
     std::unique_ptr<Sequence> kept_band;
     std::vector<std::unique_ptr<PreparedSeries>> cached;
+    // The tile buffers every group's passes prepare their tiles in (one tile at a time); let go
+    // before the frames are rebuilt.
+    std::unique_ptr<PreparedTile> spare_tile = std::make_unique<PreparedTile>();
     // Each group's fireflies as the statistics pass found them (series indices of the whole frame):
     // every later pass replaces the same samples, whatever its bands.
     std::vector<std::vector<TemporalOutlier>> fireflies;

@@ -23,7 +23,16 @@ int resolve_threads(int requested) {
     return cores > 0 ? static_cast<int>(cores) : 1;
 }
 
+int worker_count(int64_t count, int threads) {
+    return static_cast<int>(std::min<int64_t>(std::max(threads, 1), std::max<int64_t>(count, 1)));
+}
+
 void parallel_for(int64_t count, int threads, const std::function<void(int64_t)>& body, const ProgressSpan& progress) {
+    parallel_for_workers(count, threads, [&](int64_t i, int) { body(i); }, progress);
+}
+
+void parallel_for_workers(int64_t count, int threads, const std::function<void(int64_t, int)>& body,
+                          const ProgressSpan& progress) {
     std::atomic<int64_t> next{0}, done{0};
     std::atomic<bool> stop{false};
     std::exception_ptr failure;
@@ -33,12 +42,13 @@ void parallel_for(int64_t count, int threads, const std::function<void(int64_t)>
         if (!failure) failure = e;
         stop = true;
     };
-    auto work = [&](bool reporter) {
+    auto work = [&](int worker) {
+        const bool reporter = worker == 0;
         while (!stop) {
             const int64_t i = next++;
             if (i >= count) break;
             try {
-                body(i);
+                body(i, worker);
                 ++done;
                 if (reporter) progress.report(static_cast<double>(done) / static_cast<double>(count));
             } catch (...) {
@@ -46,16 +56,16 @@ void parallel_for(int64_t count, int threads, const std::function<void(int64_t)>
             }
         }
     };
-    const int extra = static_cast<int>(std::min<int64_t>(std::max(threads, 1), std::max<int64_t>(count, 1))) - 1;
+    const int extra = worker_count(count, threads) - 1;
     std::vector<std::thread> pool;
     pool.reserve(static_cast<size_t>(extra));
-    for (int t = 0; t < extra; ++t) pool.emplace_back(work, false);
+    for (int t = 0; t < extra; ++t) pool.emplace_back(work, t + 1);
     try {
         progress.report(0.0);
     } catch (...) {
         record(std::current_exception());
     }
-    work(true);
+    work(0);
     for (auto& t : pool) t.join();
     if (failure) std::rethrow_exception(failure);
     progress.report(1.0);

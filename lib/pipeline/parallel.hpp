@@ -31,4 +31,11 @@ private:
 // is rethrown here once the running ones finish.
 void parallel_for(int64_t count, int threads, const std::function<void(int64_t)>& body, const ProgressSpan& progress);
 
+// The same, with body(i, worker): worker in [0, worker_count(count, threads)) names the thread running
+// item i, so a worker's buffers are made once and reused by its items (a frame-sized buffer made fresh
+// per item costs more in page faults than many a stage's arithmetic). Worker 0 is the caller.
+int worker_count(int64_t count, int threads);
+void parallel_for_workers(int64_t count, int threads, const std::function<void(int64_t, int)>& body,
+                          const ProgressSpan& progress);
+
 }  // namespace statfilter

@@ -65,6 +65,9 @@ public:
     void consume(const ProgressSpan& progress, Visit&& visit) {
         each(progress, false, visit);
     }
+    // Passes prepare their tiles in `spare` (kept by the caller, which may lend it to the next
+    // PreparedSeries) instead of buffers of their own; null: their own, freed after each pass.
+    void lend_spare(PreparedTile* spare) { spare_ = spare; }
     // Adds the means back, undoes the transform and writes the tile's series to output.
     void finish(PreparedTile& t, Sequence& output) const;
 
@@ -78,13 +81,17 @@ private:
             progress.report(1.0);
             return;
         }
+        // One tile's buffers for every tile of the pass (the caller's spare when it lent one): the
+        // tiles are the same size but the last, and fresh ones would be page-faulted in anew.
+        std::unique_ptr<PreparedTile> own;
+        PreparedTile* t = spare_;
+        if (!t) t = (own = std::make_unique<PreparedTile>()).get();
         for (size_t i = 0; i < tiles_.size(); ++i) {
             progress.report(static_cast<double>(i) / tiles_.size());
-            auto t = std::make_unique<PreparedTile>();
             prepare(tiles_[i], *t);
             visit(*t);
-            if (keep && tiles_.size() == 1) cached_ = std::move(t);
         }
+        if (keep && tiles_.size() == 1) cached_ = own ? std::move(own) : std::make_unique<PreparedTile>(std::move(*t));
         progress.report(1.0);
     }
     void prepare(PixelRange range, PreparedTile& t) const;
@@ -95,6 +102,7 @@ private:
     std::vector<PixelRange> tiles_;
     std::vector<TemporalOutlier> outliers_;
     std::unique_ptr<PreparedTile> cached_;
+    PreparedTile* spare_ = nullptr;
 };
 
 }  // namespace statfilter
