@@ -1,6 +1,7 @@
 // Reads a frame sequence: resolves the frames and channels once from the first file and the window
 // the frames are read on from every frame's header, then reads every frame straight into the
 // sequence's memory (or, streamed, bands of it), checking each file is still as planned.
+#include <OpenImageIO/half.h>
 #include <OpenImageIO/imageio.h>
 
 #include <sys/stat.h>
@@ -533,11 +534,53 @@ namespace {
 
 // Rows [y0, y1) of a run's part (file coordinates) into dst. read_scanlines does not read tiled
 // parts, so those are decoded by whole rows of tiles and the rows asked for copied out.
+// The type the run's channels are all stored in when it is half or float, else UNKNOWN.
+OIIO::TypeDesc stored_type(const OIIO::ImageSpec& spec, const ChannelRun& run) {
+    const OIIO::TypeDesc t = spec.channelformat(run.first);
+    if (t != OIIO::TypeDesc::HALF && t != OIIO::TypeDesc::FLOAT) return OIIO::TypeDesc::UNKNOWN;
+    for (int c = run.first + 1; c < run.first + run.count; ++c)
+        if (spec.channelformat(c) != t) return OIIO::TypeDesc::UNKNOWN;
+    return t;
+}
+
+// Scanlines [y0, y1) of the run read as stored, a block of rows at a time, and widened to float into
+// dst (exactly: every half is a float). Asked for float, the library would allocate a 64 MB buffer
+// for each read. Blocks end on multiples of 256 rows from the part's first row, a multiple of every
+// EXR compression's chunk height, so no chunk is decoded twice.
+template <class Stored>
+bool read_stored_rows(OIIO::ImageInput& in, const OIIO::ImageSpec& spec, const ChannelRun& run, int y0, int y1,
+                      float* dst, OIIO::stride_t pixel, OIIO::stride_t row) {
+    constexpr int kBlockRows = 256;
+    std::vector<Stored> block;
+    for (int a = y0; a < y1;) {
+        const int b = std::min(y1, spec.y + ((a - spec.y) / kBlockRows + 1) * kBlockRows);
+        const size_t values_per_row = static_cast<size_t>(spec.width) * static_cast<size_t>(run.count);
+        block.resize(static_cast<size_t>(b - a) * values_per_row);
+        if (!in.read_scanlines(run.subimage, 0, a, b, 0, run.first, run.first + run.count, OIIO::TypeDesc::UNKNOWN,
+                               block.data()))
+            return false;
+        for (int y = a; y < b; ++y) {
+            const Stored* from = block.data() + static_cast<size_t>(y - a) * values_per_row;
+            char* to = reinterpret_cast<char*>(dst) + (y - y0) * row;
+            for (int x = 0; x < spec.width; ++x) {
+                float* px = reinterpret_cast<float*>(to + x * pixel);
+                for (int c = 0; c < run.count; ++c) px[c] = static_cast<float>(from[x * run.count + c]);
+            }
+        }
+        a = b;
+    }
+    return true;
+}
+
 bool read_part_rows(OIIO::ImageInput& in, const OIIO::ImageSpec& spec, const ChannelRun& run, int y0, int y1,
                     float* dst, OIIO::stride_t pixel, OIIO::stride_t row) {
-    if (spec.tile_width <= 0)
+    if (spec.tile_width <= 0) {
+        const OIIO::TypeDesc stored = stored_type(spec, run);
+        if (stored == OIIO::TypeDesc::HALF) return read_stored_rows<half>(in, spec, run, y0, y1, dst, pixel, row);
+        if (stored == OIIO::TypeDesc::FLOAT) return read_stored_rows<float>(in, spec, run, y0, y1, dst, pixel, row);
         return in.read_scanlines(run.subimage, 0, y0, y1, 0, run.first, run.first + run.count, OIIO::TypeDesc::FLOAT,
                                  dst, pixel, row);
+    }
     const int th = spec.tile_height;
     const int ty0 = spec.y + (y0 - spec.y) / th * th;
     const int ty1 = std::min(spec.y + spec.height, spec.y + (y1 - spec.y + th - 1) / th * th);

@@ -1,6 +1,7 @@
 // Writes a frame sequence as EXR (or any format OIIO writes by extension). Everything that can be
 // checked is checked before the first file is touched; each frame is written to a temporary file in
 // the target directory and all are renamed into place at the end, so a failed run changes nothing.
+#include <OpenImageIO/half.h>
 #include <OpenImageIO/imageio.h>
 
 #include <fcntl.h>
@@ -64,8 +65,8 @@ void check_compression(const std::string& compression) {
 }
 
 // Finite values beyond half's range would become Inf: refuse, or clamp when asked.
-void check_half_range(const std::vector<float>& frame, const Sequence& seq, int64_t f) {
-    for (size_t i = 0; i < frame.size(); ++i) {
+void check_half_range(const float* frame, size_t count, const Sequence& seq, int64_t f) {
+    for (size_t i = 0; i < count; ++i) {
         const float v = frame[i];
         if (std::isfinite(v) && std::fabs(v) > kHalfMax) {
             const int64_t c = static_cast<int64_t>(i) % seq.shape().channels;
@@ -110,7 +111,9 @@ void place_in_windows(OIIO::ImageSpec& spec, const FrameMetadata& md) {
 }
 
 // Writes one frame to a temporary file beside its final name and returns that file's name.
-std::string write_temporary(const std::string& path, const float* pixels, const Sequence& attributes, int64_t f,
+// `pixels` are of the file's type (half or float): the library writes them without a conversion
+// buffer of its own.
+std::string write_temporary(const std::string& path, const void* pixels, const Sequence& attributes, int64_t f,
                             const Shape& s, const WriteOptions& options,
                             const std::vector<std::pair<std::string, std::string>>& extra) {
     OIIO::ImageSpec spec(static_cast<int>(s.width), static_cast<int>(s.height), static_cast<int>(s.channels),
@@ -128,7 +131,7 @@ std::string write_temporary(const std::string& path, const float* pixels, const 
     const std::string tmp = temporary_name(path);
     auto out = OIIO::ImageOutput::create(tmp);
     if (!out) throw Error(Status::Io, "cannot write '" + path + "': " + OIIO::geterror());
-    bool ok = out->open(tmp, spec) && out->write_image(OIIO::TypeDesc::FLOAT, pixels);
+    bool ok = out->open(tmp, spec) && out->write_image(spec.format, pixels);
     ok = out->close() && ok;
     const std::string why = out->geterror();
     out.reset();
@@ -242,15 +245,14 @@ public:
 
     void write_frame(int64_t f, const float* pixels) override {
         const size_t count = static_cast<size_t>(shape_.pixels() * shape_.channels);
-        std::vector<float> frame(pixels, pixels + count);
-        convert_colors(frame.data(), shape_.width, shape_.height, shape_.channels, options_.color);
-        if (options_.half && !options_.into) {  // into: each channel in its file's type, checked there
-            if (options_.clamp_half) {
-                for (float& v : frame)
-                    if (std::isfinite(v)) v = std::max(-kHalfMax, std::min(kHalfMax, v));
-            } else {
-                check_half_range(frame, attributes_, f);
-            }
+        // A float copy only to convert the colours; a half file's values are rounded here, in one
+        // pass (the library's own conversion allocates three half frames' worth per frame).
+        std::vector<float> converted;
+        const float* frame = pixels;
+        if (options_.color.active()) {
+            converted.assign(pixels, pixels + count);
+            convert_colors(converted.data(), shape_.width, shape_.height, shape_.channels, options_.color);
+            frame = converted.data();
         }
         std::vector<std::pair<std::string, std::string>> extra;
         {
@@ -258,9 +260,20 @@ public:
             extra = extra_;
         }
         const std::string& path = paths_[static_cast<size_t>(f)];
-        temporaries_[static_cast<size_t>(f)] =
-            options_.into ? write_into_temporary(path, frame.data(), attributes_, f, options_, extra)
-                          : write_temporary(path, frame.data(), attributes_, f, shape_, options_, extra);
+        std::string& tmp = temporaries_[static_cast<size_t>(f)];
+        if (options_.into) {  // each channel in its file's type, checked there
+            tmp = write_into_temporary(path, frame, attributes_, f, options_, extra);
+        } else if (options_.half) {
+            if (!options_.clamp_half) check_half_range(frame, count, attributes_, f);
+            std::vector<half> halves(count);
+            for (size_t i = 0; i < count; ++i) {
+                const float v = frame[i];
+                halves[i] = options_.clamp_half && std::isfinite(v) ? std::max(-kHalfMax, std::min(kHalfMax, v)) : v;
+            }
+            tmp = write_temporary(path, halves.data(), attributes_, f, shape_, options_, extra);
+        } else {
+            tmp = write_temporary(path, frame, attributes_, f, shape_, options_, extra);
+        }
     }
 
     void set_attribute(const std::string& name, const std::string& value) override {

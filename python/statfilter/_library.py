@@ -31,6 +31,7 @@ SYSTEM_LIBRARIES = {
     "libOpenImageIO_Util.so.2.4": "libopenimageio2.4",
     "libOpenColorIO.so.2.1": "libopencolorio2.1",
     "libOpenEXR-3_1.so.30": "libopenexr-3-1-30",
+    "libImath-3_1.so.29": "libimath-3-1-29",
     "libopencv_core.so.406": "libopencv-core406",
     "libopencv_imgproc.so.406": "libopencv-imgproc406",
     "libopencv_video.so.406": "libopencv-video406",

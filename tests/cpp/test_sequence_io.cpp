@@ -101,6 +101,45 @@ TEST(SequenceIO, HalfRoundTripRoundsToHalfPrecision) {
     EXPECT_EQ(back->frame_numbers(), seq->frame_numbers());
 }
 
+// The writer rounds to half itself; its files hold the halves the library's own conversion gives, bit
+// for bit: ties to even, subnormals, signed zeros, infinities, NaN, and with clamping the range's ends.
+TEST(SequenceIO, HalfFilesHoldTheLibrarysHalves) {
+    TempDir dir;
+    constexpr float inf = std::numeric_limits<float>::infinity();
+    const float values[] = {1.0f + 1.0f / 2048,  1.0f + 3.0f / 2048, -1.0f - 1.0f / 2048, 1e-6f, -1e-7f, 6e-8f, 2e-8f,
+                            0.0f,  -0.0f, inf, -inf, std::numeric_limits<float>::quiet_NaN(), 65504.0f, 65519.0f,
+                            -65519.0f, 1.0f / 3.0f, 1e30f, -1e30f, 123.456f, std::numeric_limits<float>::denorm_min()};
+    const int n = static_cast<int>(sizeof values / sizeof values[0]);
+    for (bool clamp : {false, true}) {
+        Sequence seq(Shape{1, 1, n, 1});
+        seq.channel_names() = {"Y"};
+        seq.frame_numbers() = {1};
+        std::vector<float> library(values, values + n);  // what the library is handed to convert
+        for (int i = 0; i < n; ++i) {
+            const bool beyond = std::isfinite(values[i]) && std::fabs(values[i]) > 65504.0f;
+            seq.at(0, 0, i, 0) = clamp || !beyond ? values[i] : 0.0f;  // unclamped, beyond is refused
+            library[i] = beyond ? (clamp ? std::copysign(65504.0f, values[i]) : 0.0f) : values[i];
+        }
+        WriteOptions o;
+        o.clamp_half = clamp;
+        const std::string ours = dir.file(std::string("ours") + (clamp ? "c" : "") + ".%04d.exr");
+        write_sequence(seq, ours, o);
+        const std::string theirs = dir.file(std::string("theirs") + (clamp ? "c" : "") + ".exr");
+        OIIO::ImageSpec spec(n, 1, 1, OIIO::TypeDesc::HALF);
+        spec.channelnames = {"Y"};
+        auto out = OIIO::ImageOutput::create(theirs);
+        ASSERT_TRUE(out && out->open(theirs, spec) && out->write_image(OIIO::TypeDesc::FLOAT, library.data()) && out->close());
+        const auto halves = [](const std::string& path) {
+            auto in = OIIO::ImageInput::open(path);
+            std::vector<uint16_t> bits(static_cast<size_t>(in->spec().width));
+            EXPECT_TRUE(in->read_image(0, 0, 0, 1, OIIO::TypeDesc::HALF, bits.data()));
+            return bits;
+        };
+        const std::vector<uint16_t> a = halves(FramePattern(ours).format(1)), b = halves(theirs);
+        for (int i = 0; i < n; ++i) EXPECT_EQ(a[i], b[i]) << "value " << values[i] << (clamp ? " clamped" : "");
+    }
+}
+
 TEST(SequenceIO, MetadataTravelsThroughReadAndWrite) {
     TempDir dir;
     auto seq = make_sequence();
