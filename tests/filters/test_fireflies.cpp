@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <limits>
 #include <random>
 
 #include "filter_runner.hpp"
@@ -177,6 +178,46 @@ TEST(Fireflies, AreFoundUnderACameraPan) {
     // The same for any tiling (a tile reads the rows around it for the neighbours).
     o.budget_bytes = 1;
     EXPECT_EQ(find_temporal_outliers(pan, ChannelSelection::all(s), o).size(), found.size());
+}
+
+// A spike under the pan with a NaN and an Inf among its neighbours (the neighbour residual then skips
+// them, one sample at a time) is still found, in every channel and for any tiling; the non-finite
+// samples themselves never are.
+TEST(Fireflies, AreFoundBesideNonFiniteSamples) {
+    const Shape s{24, 20, 30, 3};
+    Sequence pan(s), clean(s);
+    std::mt19937 rng(9);
+    std::normal_distribution<float> noise(0.0f, 0.05f);
+    for (int64_t f = 0; f < s.frames; ++f)
+        for (int64_t y = 0; y < s.height; ++y)
+            for (int64_t x = 0; x < s.width; ++x)
+                for (int64_t c = 0; c < s.channels; ++c) {
+                    const float level = 1.0f + 0.8f * std::sin(0.15f * static_cast<float>(x + 2 * f)) + 0.1f * static_cast<float>(c);
+                    clean.at(f, y, x, c) = level;
+                    pan.at(f, y, x, c) = level * (1.0f + noise(rng));
+                }
+    const int64_t f = 7, y = 9, x = 14;
+    for (int64_t c = 0; c < s.channels; ++c) pan.at(f, y, x, c) = 4.0f * clean.at(f, y, x, c);
+    pan.at(f, y - 1, x, 0) = std::numeric_limits<float>::quiet_NaN();
+    pan.at(f, y + 1, x + 1, 1) = std::numeric_limits<float>::infinity();
+    pan.at(3, 2, 3, 2) = -std::numeric_limits<float>::infinity();
+    OutlierOptions o;
+    o.z = 8;
+    o.scale = transform_level(pan, ChannelSelection::all(s));
+    for (double budget : {512.0 * 1024 * 1024, 1.0}) {
+        o.budget_bytes = budget;
+        const auto found = find_temporal_outliers(pan, ChannelSelection::all(s), o);
+        for (int64_t c = 0; c < s.channels; ++c)
+            EXPECT_NE(std::find_if(found.begin(), found.end(), [&](const TemporalOutlier& t) {
+                          return t.frame == f && t.series == (y * s.width + x) * s.channels + c;
+                      }), found.end()) << "channel " << c << " budget " << budget;
+        for (const TemporalOutlier& t : found) {
+            const int64_t p = t.series / s.channels, c = t.series % s.channels;
+            EXPECT_TRUE(std::isfinite(pan.at(t.frame, p / s.width, p % s.width, c))) << "a non-finite sample was judged";
+            EXPECT_TRUE(std::isfinite(t.value));
+        }
+        EXPECT_LE(found.size(), 6u);  // the spike's three samples, at most a stray few
+    }
 }
 
 // None of the real renders' own samples is taken for a firefly where something really changes:
