@@ -91,6 +91,23 @@ void check_fireflies(const Render& r, const std::string& method, const std::map<
 
 const std::filesystem::path kSample = STATFILTER_SAMPLE_DIR, kShared = STATFILTER_SHARED_DATA;
 
+// A texture sliding 2 pixels a frame (the level under a pixel goes 0.2 -> 1.8 -> 0.2), clean and
+// with 5% noise.
+void make_pan(unsigned seed, Sequence& pan, Sequence& clean) {
+    const Shape& s = pan.shape();
+    std::mt19937 rng(seed);
+    std::normal_distribution<float> noise(0.0f, 0.05f);
+    for (int64_t f = 0; f < s.frames; ++f)
+        for (int64_t y = 0; y < s.height; ++y)
+            for (int64_t x = 0; x < s.width; ++x)
+                for (int64_t c = 0; c < s.channels; ++c) {
+                    const float level = 1.0f + 0.8f * std::sin(0.15f * static_cast<float>(x + 2 * f)) *
+                                                   std::cos(0.1f * static_cast<float>(y)) + 0.1f * static_cast<float>(c);
+                    clean.at(f, y, x, c) = level;
+                    pan.at(f, y, x, c) = level * (1.0f + noise(rng));
+                }
+}
+
 }  // namespace
 
 TEST(Fireflies, DoNotSpreadInTheShippedSample) {
@@ -146,18 +163,7 @@ TEST(Fireflies, DoNotSpreadWhereTheHybridAlignsFrames) {
 TEST(Fireflies, AreFoundUnderACameraPan) {
     const Shape s{24, 48, 64, 3};
     Sequence pan(s), clean(s);
-    std::mt19937 rng(7);
-    std::normal_distribution<float> noise(0.0f, 0.05f);
-    for (int64_t f = 0; f < s.frames; ++f)
-        for (int64_t y = 0; y < s.height; ++y)
-            for (int64_t x = 0; x < s.width; ++x)
-                for (int64_t c = 0; c < s.channels; ++c) {
-                    // The texture slides 2 pixels a frame: the level under a pixel goes 0.2 -> 1.8 -> 0.2.
-                    const float level = 1.0f + 0.8f * std::sin(0.15f * static_cast<float>(x + 2 * f)) *
-                                                   std::cos(0.1f * static_cast<float>(y)) + 0.1f * static_cast<float>(c);
-                    clean.at(f, y, x, c) = level;
-                    pan.at(f, y, x, c) = level * (1.0f + noise(rng));
-                }
+    make_pan(7, pan, clean);
     const std::vector<Firefly> spikes = {{4, 10, 12}, {11, 30, 40}, {19, 22, 50}};
     for (const Firefly& ff : spikes)
         for (int64_t c = 0; c < s.channels; ++c) pan.at(ff.frame, ff.y, ff.x, c) = 4.0f * clean.at(ff.frame, ff.y, ff.x, c);
@@ -186,16 +192,7 @@ TEST(Fireflies, AreFoundUnderACameraPan) {
 TEST(Fireflies, AreFoundBesideNonFiniteSamples) {
     const Shape s{24, 20, 30, 3};
     Sequence pan(s), clean(s);
-    std::mt19937 rng(9);
-    std::normal_distribution<float> noise(0.0f, 0.05f);
-    for (int64_t f = 0; f < s.frames; ++f)
-        for (int64_t y = 0; y < s.height; ++y)
-            for (int64_t x = 0; x < s.width; ++x)
-                for (int64_t c = 0; c < s.channels; ++c) {
-                    const float level = 1.0f + 0.8f * std::sin(0.15f * static_cast<float>(x + 2 * f)) + 0.1f * static_cast<float>(c);
-                    clean.at(f, y, x, c) = level;
-                    pan.at(f, y, x, c) = level * (1.0f + noise(rng));
-                }
+    make_pan(9, pan, clean);
     const int64_t f = 7, y = 9, x = 14;
     for (int64_t c = 0; c < s.channels; ++c) pan.at(f, y, x, c) = 4.0f * clean.at(f, y, x, c);
     pan.at(f, y - 1, x, 0) = std::numeric_limits<float>::quiet_NaN();
