@@ -163,10 +163,14 @@ def denoise(input: str, output: str, client: Any = None, method: Optional[str] =
     plan_dir = tempfile.mkdtemp(prefix=".statfilter-plan-", dir=work_dir or out_dir)
     plan_path = os.path.join(plan_dir, "plan.json")
     started = time.time()
-    plan = write_plan(input, output, plan_path, method=method, tiles=tiles, tile_rows=tile_rows,
-                      frames_per_task=frames_per_task, work_dir=os.path.join(plan_dir, "work"), memory=memory,
-                      threads=threads, channels=channels, frames=frames, pixel_type=pixel_type,
-                      compression=compression, **params)
+    try:
+        plan = write_plan(input, output, plan_path, method=method, tiles=tiles, tile_rows=tile_rows,
+                          frames_per_task=frames_per_task, work_dir=os.path.join(plan_dir, "work"), memory=memory,
+                          threads=threads, channels=channels, frames=frames, pixel_type=pixel_type,
+                          compression=compression, **params)
+    except BaseException:
+        shutil.rmtree(plan_dir, ignore_errors=True)  # nothing was written but the empty plan directory
+        raise
     planned = time.time()
     own_cluster = None
     if client is None:

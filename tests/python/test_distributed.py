@@ -204,3 +204,13 @@ def test_detect_usage_errors(tmp_path):
         sd.detect(str(SAMPLE), str(SAMPLE), crops=str(tmp_path / "c.json"), degree=40, progress=False)
     assert not (tmp_path / "c.json").exists()
     assert not [p for p in tmp_path.iterdir() if p.name.startswith(".statfilter-plan-")]
+
+
+def test_denoise_that_cannot_plan_leaves_no_plan_directory(tmp_path):
+    pytest.importorskip("distributed")
+    missing = str(tmp_path / "nowhere" / "n.####.exr")
+    with pytest.raises(statfilter.NotFoundError, match="no files match '%s'" % re.escape(missing)):
+        sd.denoise(missing, str(tmp_path / "out" / "d.####.exr"), progress=False)
+    with pytest.raises(statfilter.InvalidArgumentError):
+        sd.denoise(str(SAMPLE), str(tmp_path / "out" / "d.####.exr"), method="pca", rank=-3, progress=False)
+    assert not [p for p in (tmp_path / "out").iterdir() if p.name.startswith(".statfilter-plan-")]
