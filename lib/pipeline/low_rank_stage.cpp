@@ -255,18 +255,12 @@ void LowRankStage::reconstruct(const FrameSource& source, LowRankStatistics stat
             m.choice = options_.rank(m.basis.eigenvalues, m.basis.series, m.basis.frames);
             m.stored = m.choice.rank;
         }
-        const auto n_total = static_cast<size_t>(s.pixels() * m.group.count);
-        m.coeff.assign(static_cast<size_t>(m.stored) * n_total, 0.0f);
-        m.means.assign(n_total, 0.0);
-        if (m.prep.keep_mean) {
-            m.linear_means.assign(n_total, 0.0);
-            m.non_negative.assign(n_total, 1);
-        }
     }
 
     // The coefficients' size is known now (an automatic rank): the bands of pass 2 shrink to leave
     // room for them (the kept band is let go if it must be), or the run stops here, before anything
-    // is written.
+    // is written. Pass 1's band buffer (and spare tile), sized for its taller bands, go before the
+    // coefficients come: their pages would otherwise stay resident beside them.
     int64_t rows2 = rows;
     if (!in_memory) {
         int64_t most = 0;
@@ -279,8 +273,21 @@ void LowRankStage::reconstruct(const FrameSource& source, LowRankStatistics stat
         }
         check_memory_budget(held_bytes(s, most, ctx.threads, 1), ctx.budget_bytes,
                             "the temporal model (" + std::to_string(most) + " components per series)");
-        if (!keep)
+        if (!keep) {
             rows2 = std::max<int64_t>(1, std::min(rows, static_cast<int64_t>((ctx.budget_bytes - held) / band_row_bytes(s))));
+            for (auto& c : cached) c.reset();  // pass 1's last band and the tiles it kept
+            std::vector<float>().swap(buffer);
+            if (rows2 < rows) stats.spare_tile = std::make_unique<PreparedTile>();  // sized for pass 1's bands too
+        }
+    }
+    for (GroupModel& m : models) {
+        const auto n_total = static_cast<size_t>(s.pixels() * m.group.count);
+        m.coeff.assign(static_cast<size_t>(m.stored) * n_total, 0.0f);
+        m.means.assign(n_total, 0.0);
+        if (m.prep.keep_mean) {
+            m.linear_means.assign(n_total, 0.0);
+            m.non_negative.assign(n_total, 1);
+        }
     }
     const int64_t bands2 = keep ? 1 : (s.height + rows2 - 1) / rows2;
 
