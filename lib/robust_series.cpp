@@ -65,10 +65,7 @@ namespace {
 constexpr int64_t kLanes = 4;
 // Beyond this many frames a block's values outgrow the first-level cache: each series is sorted alone.
 constexpr int64_t kMostNetworkFrames = 256;
-
-// The lanes as one vector (GCC's and Clang's vector extension): a comparator is then one compare
-// and two selects, whatever the instruction set the clone is built for.
-typedef double Lanes __attribute__((vector_size(kLanes * sizeof(double))));
+static_assert(sizeof(Lanes) == kLanes * sizeof(double), "a comparator works on one Lanes vector");
 
 SF_VECTOR_CLONES void sort_lanes(double* x, const Comparator* network, size_t count) {
     for (size_t c = 0; c < count; ++c) {

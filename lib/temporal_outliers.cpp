@@ -49,10 +49,6 @@ double second_brightest_neighbour(int64_t p, int64_t width, int64_t height, At&&
     return n == 0 ? at(p) : n == 1 ? first : second;
 }
 
-// Four samples side by side (GCC's and Clang's vector extension), and a lane mask.
-typedef double Lanes __attribute__((vector_size(4 * sizeof(double))));
-typedef int64_t LaneMask __attribute__((vector_size(4 * sizeof(int64_t))));
-
 // Samples [i0, i1) of u (pixel * C + channel) inside the frame, less the second largest of their 8
 // neighbours at u[i + offsets[k]], as std::max and std::min take it; NaN where a neighbour is not
 // finite (redone one at a time by the caller). Four samples at a time, without a branch.
