@@ -17,9 +17,11 @@ DiffusionFlux parse_diffusion_flux(const std::string& name) {
 
 namespace {
 
-// The robust spread of neighbour differences: 1.4826 x the median of |u(x+1) - u(x)| over the frame.
-double gradient_noise(const std::vector<double>& u, int64_t width, int64_t height, int64_t channels) {
-    std::vector<double> d;
+// The robust spread of neighbour differences: 1.4826 x the median of |u(x+1) - u(x)| over the frame;
+// d holds the differences (a workspace buffer).
+double gradient_noise(const std::vector<double>& u, int64_t width, int64_t height, int64_t channels,
+                      std::vector<double>& d) {
+    d.clear();
     d.reserve(static_cast<size_t>(width * height));
     for (int64_t y = 0; y < height; ++y)
         for (int64_t x = 0; x + 1 < width; ++x) {
@@ -64,15 +66,19 @@ double log_epsilon(const std::vector<double>& u, const DiffusionOptions& o) {
 // larger frame), written back to the rows and columns of `keep` (window coordinates); the frame's eps
 // and K measured here, or given (a window of a larger frame diffuses with its frame's).
 void diffuse(float* pixels, int64_t stride, int64_t width, int64_t height, int64_t channels, const PixelBox& keep,
-             const DiffusionOptions& o, const DiffusionScale* given) {
+             const DiffusionOptions& o, const DiffusionScale* given, DiffusionWorkspace& work) {
     const int64_t n = width * height * channels;
-    std::vector<double> u(static_cast<size_t>(n)), next(static_cast<size_t>(n));
+    std::vector<double>& u = work.u;
+    std::vector<double>& next = work.next;
+    u.resize(static_cast<size_t>(n));
+    next.resize(static_cast<size_t>(n));
     for (int64_t y = 0; y < height; ++y)
         std::copy_n(pixels + y * stride * channels, width * channels, u.begin() + y * width * channels);
     const double eps = given ? given->eps : log_epsilon(u, o);
     // The values the conductances are computed on: the log image, or u itself.
     const bool separate = o.log_domain && o.conserve;
-    std::vector<double> edges_of(separate ? static_cast<size_t>(n) : 0);
+    std::vector<double>& edges_of = work.edges;
+    edges_of.resize(separate ? static_cast<size_t>(n) : 0);
     auto to_log = [&](const std::vector<double>& from, std::vector<double>& to) {
         if (&to != &from) std::copy(from.begin(), from.end(), to.begin());
         fast_math::signed_log1p(to.data(), to.size(), 1.0 / eps);  // within 4 ulp of std::log1p, vectorised
@@ -81,14 +87,17 @@ void diffuse(float* pixels, int64_t stride, int64_t width, int64_t height, int64
     else if (o.log_domain) to_log(u, u);
     const std::vector<double>& g = separate ? edges_of : u;
     const int64_t row = width * channels;
-    const double k = given ? given->k : o.k * gradient_noise(g, width, height, channels);
+    const double k = given ? given->k : o.k * gradient_noise(g, width, height, channels, work.east);
     if (!(k > 0)) {  // a flat frame: nothing to diffuse
         return;
     }
     const double inv_k2 = 1.0 / (k * k);
     // Each edge's conductance once per step (east and south of every pixel), shared by the two
     // pixels it joins: half the exp/sqrt calls of evaluating it from both sides, same values.
-    std::vector<double> east(static_cast<size_t>(width * height), 0.0), south(east.size(), 0.0);
+    std::vector<double>& east = work.east;
+    std::vector<double>& south = work.south;
+    east.resize(static_cast<size_t>(width * height));
+    south.resize(east.size());
     // r = |grad|^2 / channels / K^2 along each edge, then every edge's conductance in one call (a loop
     // that vectorises: the exp was a tenth of a balanced run).
     auto squared = [&](const double* a, const double* b) {  // a and b point into g
@@ -172,35 +181,54 @@ void diffuse(float* pixels, int64_t stride, int64_t width, int64_t height, int64
 }  // namespace
 
 DiffusionScale diffusion_scale(const float* pixels, int64_t width, int64_t height, int64_t channels,
-                               const DiffusionOptions& o) {
+                               const DiffusionOptions& o, DiffusionWorkspace& ws) {
     check_options(o);
-    std::vector<double> g(pixels, pixels + width * height * channels);
+    std::vector<double>& g = ws.u;
+    g.assign(pixels, pixels + width * height * channels);
     DiffusionScale scale;
     scale.eps = log_epsilon(g, o);
     if (o.log_domain) fast_math::signed_log1p(g.data(), g.size(), 1.0 / scale.eps);
-    scale.k = o.k * gradient_noise(g, width, height, channels);
+    scale.k = o.k * gradient_noise(g, width, height, channels, ws.east);
     return scale;
 }
 
-void diffuse_frame(float* pixels, int64_t width, int64_t height, int64_t channels, const DiffusionOptions& o) {
+DiffusionScale diffusion_scale(const float* pixels, int64_t width, int64_t height, int64_t channels,
+                               const DiffusionOptions& o) {
+    DiffusionWorkspace ws;
+    return diffusion_scale(pixels, width, height, channels, o, ws);
+}
+
+void diffuse_frame(float* pixels, int64_t width, int64_t height, int64_t channels, const DiffusionOptions& o,
+                   DiffusionWorkspace& ws) {
     check_options(o);
-    diffuse(pixels, width, width, height, channels, PixelBox{0, 0, width, height}, o, nullptr);
+    diffuse(pixels, width, width, height, channels, PixelBox{0, 0, width, height}, o, nullptr, ws);
+}
+
+void diffuse_frame(float* pixels, int64_t width, int64_t height, int64_t channels, const DiffusionOptions& o) {
+    DiffusionWorkspace ws;
+    diffuse_frame(pixels, width, height, channels, o, ws);
 }
 
 void diffuse_region(float* pixels, int64_t width, int64_t height, int64_t channels, const PixelBox& region,
                     const DiffusionOptions& o) {
+    DiffusionWorkspace ws;
+    diffuse_region(pixels, width, height, channels, region, o, ws);
+}
+
+void diffuse_region(float* pixels, int64_t width, int64_t height, int64_t channels, const PixelBox& region,
+                    const DiffusionOptions& o, DiffusionWorkspace& ws) {
     check_options(o);
     if (region.x0 >= region.x1 || region.y0 >= region.y1) return;
     if (region.x0 < 0 || region.y0 < 0 || region.x1 > width || region.y1 > height)
         throw Error(Status::InvalidArgument, "diffuse_region: the region is not inside the frame");
-    const DiffusionScale scale = diffusion_scale(pixels, width, height, channels, o);
+    const DiffusionScale scale = diffusion_scale(pixels, width, height, channels, o, ws);
     // Each step reaches one pixel further, so the region grown by the steps sees what the whole frame
     // would; the window's own border (Neumann) stays in that margin.
     const int64_t m = o.iterations;
     const int64_t x0 = std::max<int64_t>(0, region.x0 - m), y0 = std::max<int64_t>(0, region.y0 - m);
     const int64_t x1 = std::min(width, region.x1 + m), y1 = std::min(height, region.y1 + m);
     diffuse(pixels + (y0 * width + x0) * channels, width, x1 - x0, y1 - y0, channels,
-            PixelBox{region.x0 - x0, region.y0 - y0, region.x1 - x0, region.y1 - y0}, o, &scale);
+            PixelBox{region.x0 - x0, region.y0 - y0, region.x1 - x0, region.y1 - y0}, o, &scale, ws);
 }
 
 }  // namespace statfilter

@@ -22,7 +22,11 @@ double mean_of_map(const Sequence& map);
 // The diffusion filter's parameters and work, shared with the hybrid's single-frame stage.
 std::vector<ParamSpec> diffusion_params();
 struct DiffusionOptions;
+struct DiffusionWorkspace;
 DiffusionOptions diffusion_options(const ParamSet& params);
-void diffuse_sequence(const Sequence& input, Sequence& output, const DiffusionOptions& options, const Progress& progress);
+// Every frame diffused, frames in parallel; workspaces (one per worker, grown to fit) are kept for the
+// caller's next call.
+void diffuse_sequence(const Sequence& input, Sequence& output, const DiffusionOptions& options, const Progress& progress,
+                      std::vector<DiffusionWorkspace>& workspaces);
 
 }  // namespace statfilter

@@ -1,8 +1,7 @@
 // The single-frame filter: anisotropic diffusion of every frame, frames in parallel.
-#include <opencv2/core.hpp>
-
 #include "filters/builtin_filters.hpp"
 #include "filters/temporal_params.hpp"
+#include "pipeline/parallel.hpp"
 #include "pipeline/frame_stream_stage.hpp"
 #include "statfilter/anisotropic_diffusion.hpp"
 #include "statfilter/nonfinite.hpp"
@@ -38,19 +37,30 @@ DiffusionOptions diffusion_options(const ParamSet& p) {
     return o;
 }
 
-void diffuse_sequence(const Sequence& input, Sequence& output, const DiffusionOptions& options, const Progress& progress) {
+void diffuse_sequence(const Sequence& input, Sequence& output, const DiffusionOptions& options, const Progress& progress,
+                      std::vector<DiffusionWorkspace>& workspaces) {
     const Shape& s = input.shape();
     check_nonfinite(input, NonFinitePolicy::Error);
-    progress.report(0.0, "diffusion");
-    cv::parallel_for_(cv::Range(0, static_cast<int>(s.frames)), [&](const cv::Range& frames) {
-        std::vector<float> frame(static_cast<size_t>(s.pixels() * s.channels));
-        for (int f = frames.start; f < frames.end; ++f) {
-            input.get_frame(f, frame.data());
-            diffuse_frame(frame.data(), s.width, s.height, s.channels, options);
-            output.set_frame(f, frame.data());
+    const int threads = resolve_threads(0);
+    const int workers = worker_count(s.frames, threads);
+    if (static_cast<int>(workspaces.size()) < workers) workspaces.resize(static_cast<size_t>(workers));
+    // Contiguous output (a frame stage's, in place): each frame is diffused where it is written.
+    const int64_t samples = s.pixels() * s.channels;
+    const bool direct = output.is_contiguous();
+    const bool in_place = direct && input.is_contiguous() && input.data() == output.data();
+    std::vector<std::vector<float>> frames(direct ? 0 : static_cast<size_t>(workers));
+    parallel_for_workers(s.frames, threads, [&](int64_t f, int worker) {
+        float* frame = nullptr;
+        if (direct) {
+            frame = output.data() + f * samples;
+        } else {
+            frames[static_cast<size_t>(worker)].resize(static_cast<size_t>(samples));
+            frame = frames[static_cast<size_t>(worker)].data();
         }
-    });
-    progress.report(1.0, "diffusion");
+        if (!in_place) input.get_frame(f, frame);
+        diffuse_frame(frame, s.width, s.height, s.channels, options, workspaces[static_cast<size_t>(worker)]);
+        if (!direct) output.set_frame(f, frame);
+    }, {progress, 0, 1, "diffusion"});
 }
 
 namespace {
@@ -75,8 +85,15 @@ public:
 
 protected:
     void run(const Sequence& input, Sequence& output, const Progress& progress) override {
-        diffuse_sequence(input, output, diffusion_options(params()), progress);
+        diffuse_sequence(input, output, diffusion_options(params()), progress, workspaces_);
+        // Run frame by frame (a prefilter or postfilter borrowed from a pool, one instance per thread,
+        // whose working set the run counts for its whole length), the buffers serve the next frame;
+        // after a whole shot they go.
+        if (input.shape().frames > 1) workspaces_.clear();
     }
+
+private:
+    std::vector<DiffusionWorkspace> workspaces_;
 };
 
 }  // namespace

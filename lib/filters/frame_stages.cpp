@@ -2,6 +2,7 @@
 
 #include <algorithm>
 
+#include "statfilter/anisotropic_diffusion.hpp"
 #include "statfilter/error.hpp"
 #include "statfilter/filter_registry.hpp"
 
@@ -44,6 +45,11 @@ std::vector<ParamSpec> postfilter_params(const char* default_filter, const char*
     ParamSpec list = choice_param("postfilter_params", default_params, {},
                                   "the postfilter's parameters as name=value,name=value (e.g. iterations=3)");
     return {name, list};
+}
+
+double frame_stage_bytes(const Shape& s) {
+    const double frame = static_cast<double>(s.pixels()) * s.channels * sizeof(float);
+    return frame + std::max(5 * frame, diffusion_working_bytes(s.pixels(), s.channels));
 }
 
 bool has_frame_stage(const ParamSet& params, const std::string& stage) {

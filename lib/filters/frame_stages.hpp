@@ -45,6 +45,10 @@ std::unique_ptr<Filter> make_frame_stage(const std::string& stage, const ParamSe
 // Adds a stage filter's results to results as "STAGE.NAME".
 void add_stage_results(const std::string& stage, const Results& own, Results& results);
 
+// Bytes one thread's single-frame filter holds: the frame, and its working copies of it (a few frames,
+// as OIDN's), or a diffusion's working set in double, which it keeps from frame to frame.
+double frame_stage_bytes(const Shape& shape);
+
 // True when parameter `stage` exists and names a filter.
 bool has_frame_stage(const ParamSet& params, const std::string& stage);
 // True when a prefilter runs and the temporal result is to be blended back towards it tile by tile

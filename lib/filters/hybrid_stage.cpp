@@ -109,26 +109,28 @@ double HybridStage::maps_bytes(const Shape& s) {
 
 double HybridStage::first_pass_bytes(const Shape& s, int threads) const {
     // Per thread while I_T is rebuilt: the first pass' copy of the frame, the noisy frame diffused on
-    // its own, the diffusion's working set and the own first pass' test of I_T.
+    // its own, two diffusions' working sets (the light pass keeps its own from frame to frame; the
+    // frame's own diffusion) and the own first pass' test of I_T.
     const double frame = static_cast<double>(s.pixels()) * s.channels * sizeof(float);
-    return threads * (2 * frame + diffusion_working_bytes(s.pixels(), s.channels) + OwnFirstPass::working_bytes(s));
+    return threads * (2 * frame + 2 * diffusion_working_bytes(s.pixels(), s.channels) + OwnFirstPass::working_bytes(s));
 }
 
 double HybridStage::window_bytes(const Shape& s, int threads) const {
     const double frame = static_cast<double>(s.pixels()) * s.channels * sizeof(float);
     const double frames = 2.0 * options_.mc.half_width + threads;  // the window of every frame being averaged
-    // Each window frame: samples, guide, image. Each thread: I_T, then either the first pass with the
-    // average's own buffers, the flow and DIS's images, or the light diffusion pass of the frame it
-    // hands on (a frame entering the window is read through one more frame, a smaller need).
+    // Each window frame: samples, guide, image. Each thread: I_T, the light diffusion pass' working set
+    // (kept from frame to frame), and the first pass with the average's own buffers, the flow and
+    // DIS's images (a frame entering the window is read through one more frame, a smaller need).
     const double refine = options_.refine_after ? diffusion_working_bytes(s.pixels(), s.channels) : 0.0;
-    const double per_thread = frame + std::max({frame + AlignedAverager::working_bytes(s, s.pixels()), refine, frame});
+    const double per_thread = frame + refine + std::max(frame + AlignedAverager::working_bytes(s, s.pixels()), frame);
     return frames * (2 * frame + static_cast<double>(s.pixels())) + threads * per_thread + maps_bytes(s);
 }
 
 double HybridStage::rebuild_bytes(const Shape& s, int threads) const {
     const LowRankStage temporal(options_.temporal);
     const int64_t rank = options_.temporal.per_pixel ? options_.temporal.max_rank : options_.temporal.known_rank;
-    return temporal.emission_bytes(s, rank, threads) + first_pass_bytes(s, threads) + maps_bytes(s);
+    // The temporal model's own need while it rebuilds (its second pass' band, or the frames it emits).
+    return temporal.held_bytes(s, rank, threads, 1) + first_pass_bytes(s, threads) + maps_bytes(s);
 }
 
 double HybridStage::min_bytes(const Shape& s, int threads) const {
@@ -309,6 +311,7 @@ void HybridStage::run(const FrameSource& source, const FrameConsumer& consume, c
         still_levels[static_cast<size_t>(t)] = level;
         first_pass.write_frame(t, estimate.data());
     }, inner, own);
+    refine.release();  // the rebuild's threads' buffers; the window counts its own (window_bytes)
     for (const char* name : {"rank", "mean_rank"})
         if (own.has(name)) results.copy(own, name, std::string("temporal_") + name);
 

@@ -30,7 +30,14 @@ void FrameStagePool::apply(int64_t f, float* pixels, const Shape& whole, const S
 }
 
 void FrameStagePool::add_results(Results& results) const {
-    if (last_) add_stage_results(stage_, last_->results(), results);
+    add_stage_results(stage_, last_ ? last_->results() : released_, results);
+}
+
+void FrameStagePool::release() {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (last_) released_ = last_->results();
+    last_.reset();
+    idle_.clear();
 }
 
 }  // namespace statfilter

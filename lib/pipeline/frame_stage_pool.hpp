@@ -21,6 +21,9 @@ public:
     void apply(int64_t f, float* pixels, const Shape& shape, const Sequence& attributes);
     // The stage's results ("STAGE.NAME") from the last frame filtered.
     void add_results(Results& results) const;
+    // Lets every idle instance go, and the buffers it keeps for its next frame (a diffusion's): between
+    // the phases of a stage that budget them apart. The results stay; the next apply makes new ones.
+    void release();
 
 private:
     std::string stage_;
@@ -28,6 +31,7 @@ private:
     std::mutex mutex_;
     std::vector<std::unique_ptr<Filter>> idle_;
     std::unique_ptr<Filter> last_;
+    Results released_;  // last_'s results once it is let go
 };
 
 }  // namespace statfilter

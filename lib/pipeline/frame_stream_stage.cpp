@@ -3,6 +3,7 @@
 #include <mutex>
 #include <vector>
 
+#include "filters/frame_stages.hpp"
 #include "pipeline/parallel.hpp"
 
 namespace statfilter {
@@ -15,8 +16,7 @@ Footprint FrameStreamStage::footprint() const {
 }
 
 double FrameStreamStage::min_bytes(const Shape& s, int threads) const {
-    // Per thread: the frame, and the filter's working copies of it (diffusion holds doubles).
-    return static_cast<double>(threads) * s.pixels() * s.channels * sizeof(float) * 6;
+    return static_cast<double>(threads) * frame_stage_bytes(s);
 }
 
 void FrameStreamStage::run(const FrameSource& source, const FrameConsumer& consume, const StageContext& ctx,

@@ -55,9 +55,10 @@ void Filter::execute(const FrameSource& source, FrameSink& sink, const RunOption
     if (stage) {
         if (pre) prefilter = std::make_unique<FrameStagePool>("prefilter", params_);
         if (post) postfilter = std::make_unique<FrameStagePool>("postfilter", params_);
-        // A frame stage holds its frame and a few working copies of it (diffusion: doubles) per thread.
+        // Per thread, a frame stage's frame and working set; with the trust blend, the noisy and the
+        // prefiltered frame beside it and a probe's copy.
         const bool trusting = trusts_time_by_tile(params_);
-        const double frame_stages = (pre || post) ? threads * frame_bytes * (trusting ? 9 : 6) : 0;
+        const double frame_stages = (pre || post) ? threads * (frame_stage_bytes(s) + (trusting ? 3 * frame_bytes : 0)) : 0;
         // Reading and writing files, each thread may hold OpenImageIO's buffer of a frame's pixels in
         // the file's type being decoded and one being encoded: at most a float frame each. At 4K that
         // is 0.2 GiB a thread, so it is counted, not left to the fixed overhead.

@@ -12,6 +12,7 @@
 #pragma once
 #include <cstdint>
 #include <string>
+#include <vector>
 
 namespace statfilter {
 
@@ -29,8 +30,18 @@ struct DiffusionOptions {
 
 DiffusionFlux parse_diffusion_flux(const std::string& name);
 
+// The buffers one diffusion works in (the values, the next step, the log image and the edges'
+// conductances, in double), kept between calls by a caller that diffuses frame after frame: at 1080p
+// they are 0.2 GB a frame, which the system would otherwise map and zero afresh for every frame. Every
+// element is written before it is read, so a reused workspace gives the same bits as a new one.
+struct DiffusionWorkspace {
+    std::vector<double> u, next, edges, east, south;
+};
+
 // Diffuses width x height pixels of `channels` interleaved floats in place.
 void diffuse_frame(float* pixels, int64_t width, int64_t height, int64_t channels, const DiffusionOptions& options);
+void diffuse_frame(float* pixels, int64_t width, int64_t height, int64_t channels, const DiffusionOptions& options,
+                   DiffusionWorkspace& workspace);
 
 // What a frame's diffusion measures on the whole frame: the log domain's eps and the edge threshold K
 // (options.k x the gradient noise; 0 for a flat frame, which is left as it is).
@@ -40,6 +51,8 @@ struct DiffusionScale {
 };
 DiffusionScale diffusion_scale(const float* pixels, int64_t width, int64_t height, int64_t channels,
                                const DiffusionOptions& options);
+DiffusionScale diffusion_scale(const float* pixels, int64_t width, int64_t height, int64_t channels,
+                               const DiffusionOptions& options, DiffusionWorkspace& workspace);
 
 // Pixels [x0, x1) x [y0, y1) of a frame.
 struct PixelBox {
@@ -50,6 +63,8 @@ struct PixelBox {
 // at a few of its pixels. The pixels outside the region are left as they are.
 void diffuse_region(float* pixels, int64_t width, int64_t height, int64_t channels, const PixelBox& region,
                     const DiffusionOptions& options);
+void diffuse_region(float* pixels, int64_t width, int64_t height, int64_t channels, const PixelBox& region,
+                    const DiffusionOptions& options, DiffusionWorkspace& workspace);
 // The bytes diffuse_frame holds besides the frame itself, at most (the log domain with conserve):
 // the frame, the next step and the log values in double, and two conductances a pixel (the gradient
 // spread's sample, one double a pixel, is freed before they are made).

@@ -235,3 +235,62 @@ TEST(Diffusion, ARegionHasTheWholeFramesValues) {
     std::vector<float> part = frame;
     EXPECT_THROW(diffuse_region(part.data(), W, H, C, PixelBox{0, 0, W + 1, H}, DiffusionOptions()), Error);
 }
+
+// A workspace kept from call to call (a frame stage diffusing frame after frame) gives the bits a
+// new one gives, whatever it held before: a larger frame, a region, another domain, a flat frame.
+TEST(Diffusion, AKeptWorkspaceGivesTheBitsOfANewOne) {
+    std::mt19937 rng(5);
+    std::gamma_distribution<float> g(0.7f, 1.5f);
+    const auto frame_of = [&](int64_t w, int64_t h, bool flat) {
+        std::vector<float> f(static_cast<size_t>(w * h * 3), 2.0f);
+        if (!flat)
+            for (float& v : f) v = g(rng);
+        return f;
+    };
+    struct Call {
+        int64_t w, h;
+        bool flat, region, log_domain;
+    };
+    const Call calls[] = {{53, 41, false, false, true}, {20, 17, false, false, true}, {53, 41, false, true, true},
+                          {20, 17, false, false, false}, {20, 17, true, false, true}, {7, 3, false, true, true},
+                          {53, 41, false, false, true}};
+    DiffusionWorkspace kept;
+    for (const Call& c : calls) {
+        DiffusionOptions o;
+        o.log_domain = c.log_domain;
+        o.iterations = 4;
+        const std::vector<float> input = frame_of(c.w, c.h, c.flat);
+        std::vector<float> fresh = input, reused = input;
+        const PixelBox box{1, 1, c.w - 2, c.h - 1};
+        if (c.region) {
+            diffuse_region(fresh.data(), c.w, c.h, 3, box, o);
+            diffuse_region(reused.data(), c.w, c.h, 3, box, o, kept);
+        } else {
+            diffuse_frame(fresh.data(), c.w, c.h, 3, o);
+            diffuse_frame(reused.data(), c.w, c.h, 3, o, kept);
+        }
+        for (size_t i = 0; i < input.size(); ++i) ASSERT_EQ(reused[i], fresh[i]) << c.w << " x " << c.h << " sample " << i;
+        if (!c.flat) {
+            EXPECT_NE(fresh, input);  // a diffusion, not a copy
+        }
+    }
+}
+
+// The filter run on one frame at a time, in place (as a postfilter is), reuses its buffers from frame
+// to frame and gives each frame's own diffusion.
+TEST(Diffusion, TheFilterFrameByFrameInPlaceGivesEachFramesDiffusion) {
+    LowRank g;
+    g.noise = 0.1;
+    const auto noisy = make_low_rank(g);
+    auto filter = create_filter("diffusion");
+    const Shape one{1, g.height, g.width, g.channels};
+    std::vector<float> pixels(static_cast<size_t>(g.height * g.width * g.channels)), want(pixels.size());
+    for (int64_t f = 0; f < 4; ++f) {
+        noisy->get_frame(f, pixels.data());
+        want = pixels;
+        diffuse_frame(want.data(), g.width, g.height, g.channels, DiffusionOptions());
+        Sequence frame(pixels.data(), one, contiguous_strides(one));
+        filter->execute(frame, frame, Progress());
+        for (size_t i = 0; i < pixels.size(); ++i) ASSERT_EQ(pixels[i], want[i]) << "frame " << f;
+    }
+}
