@@ -38,6 +38,7 @@ PRESETS = {
         "mc_sigma": (["0.05", "0.1", "0.2"], "0.1"),
         "mc_dilate": (["2", "4", "8"], "4"),
         "change_z": (["3", "5", "8"], "5"),
+        "change_z_grow": (["0", "3", "4"], "3"),
     }),
     "high": (["--quality", "high"], {
         "prefilter_trust_tile": (["8", "16", "32"], "16"),

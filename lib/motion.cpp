@@ -375,7 +375,28 @@ void TemporalChange::add_scores(const Sequence& band, int64_t y0, int64_t y1, in
     }, {kNoProgress});
     for (int64_t y = y0; y < y1; ++y)
         for (int64_t x = 0; x < W; ++x)
-            map_->at(0, y, x, 0) = peak.at<float>(static_cast<int>(y - first), static_cast<int>(x)) > threshold2 ? 1.0f : 0.0f;
+            map_->at(0, y, x, 0) = peak.at<float>(static_cast<int>(y - first), static_cast<int>(x));
+}
+
+void TemporalChange::finish_scores() {
+    // The map holds each pixel's peak squared score until here. A pixel moves where its peak exceeds
+    // z_threshold^2, or exceeds grow_z^2 and is joined (8-connected, through such pixels) to one that
+    // does: the rim of an object's path, whose scores a lower threshold finds, without the lone
+    // pixels of a still region that cross it by chance.
+    if (!active() || !(unit_ > 0)) return;
+    const int H = static_cast<int>(shape_.height), W = static_cast<int>(shape_.width);
+    const double high = o_.z_threshold * o_.z_threshold;
+    const double low = o_.grow_z > 0 && o_.grow_z < o_.z_threshold ? o_.grow_z * o_.grow_z : high;
+    cv::Mat peak(H, W, CV_32F, &map_->at(0, 0, 0, 0));
+    cv::Mat candidate = peak > low, labels;
+    const int count = cv::connectedComponents(candidate, labels, 8, CV_32S);
+    std::vector<uint8_t> seeded(static_cast<size_t>(count), 0);
+    for (int y = 0; y < H; ++y)
+        for (int x = 0; x < W; ++x)
+            if (peak.at<float>(y, x) > high) seeded[static_cast<size_t>(labels.at<int>(y, x))] = 1;
+    seeded[0] = 0;  // label 0: below the low threshold
+    for (int y = 0; y < H; ++y)
+        for (int x = 0; x < W; ++x) peak.at<float>(y, x) = seeded[static_cast<size_t>(labels.at<int>(y, x))] ? 1.0f : 0.0f;
 }
 
 void TemporalChange::model_misses(int64_t f, const float* frame, const float* model, std::vector<uint8_t>& misses) const {
@@ -413,6 +434,7 @@ std::unique_ptr<TemporalChange> temporal_change_test(const Sequence& input, cons
     change->add_noise(input, 0, s.height, 0);
     change->finish_noise();
     change->add_scores(input, 0, s.height, 0);
+    change->finish_scores();
     return change;
 }
 

@@ -215,6 +215,7 @@ public:
             if (!hybrid_streams(hybrid, names_guide_passes(*this, params()))) return nullptr;
             HybridStageOptions options = hybrid_stage_options(hybrid);
             options.refine_after = params().get_string("postfilter").empty();  // else Filter::execute runs the user's
+            if (has_frame_stage(params(), "prefilter")) options.change_z_grow = 0;  // temporal_change_options
             return std::make_unique<MotionPresetStage>(std::move(options), quality, resolved_transform(),
                                                        params().get_float("still_fraction"));
         }

@@ -60,7 +60,9 @@ HybridStageOptions hybrid_stage_options(const ParamSet& p) {
     o.alpha.high = p.get_float("alpha_high");
     o.alpha.window = static_cast<int>(p.get_int("alpha_window"));
     if (!(o.alpha.high > o.alpha.low)) throw Error(Status::InvalidArgument, "alpha_high must be above alpha_low");
-    o.change_z = p.get_float("change_z");
+    const TemporalChangeOptions change = temporal_change_options(p, has_frame_stage(p, "prefilter"));
+    o.change_z = change.z_threshold;
+    o.change_z_grow = change.grow_z;
     o.still_fraction = p.get_float("still_fraction");
     o.mc_dilate = static_cast<int>(p.get_int("mc_dilate"));
     o.mc.half_width = static_cast<int>(p.get_int("mc_half_width"));
@@ -162,6 +164,7 @@ void HybridStage::run(const FrameSource& source, const FrameConsumer& consume, c
     // 1. Statistics. The Gram, and each frame's light level for the change test, in one read.
     TemporalChangeOptions change_options;
     change_options.z_threshold = options_.change_z;
+    change_options.grow_z = options_.change_z_grow;
     auto change_test = std::make_unique<TemporalChange>(s, change_options);
     TemporalChange& change = *change_test;
     const bool test_change = options_.change_z > 0;
@@ -214,6 +217,7 @@ void HybridStage::run(const FrameSource& source, const FrameConsumer& consume, c
         series.read({none}, [&](const PreparedTile& t) { alpha_map.add_energy(t, y0 * W); });
         if (test_change) change.add_scores(band, y0, y1, top);
     });
+    if (test_change) change.finish_scores();
     buffer = std::vector<float>();
     const std::shared_ptr<Sequence> alpha = alpha_map.alpha();
     // Where things move: 1 - alpha, raised where the temporal-change test says so.

@@ -30,6 +30,7 @@ struct HybridStageOptions {
     GlobalMotionOptions alpha;    // components: the most counted
     bool signal_components = true;  // count only those above the noise threshold
     double change_z = 5;          // the temporal-change test (0 = off)
+    double change_z_grow = 3;     // its map grown through scores above this (0 = not grown)
     double still_fraction = 0.01;
     int mc_dilate = 4;
     AlignedAverageOptions mc;     // frame_gain and vectors are the stage's

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 
+#include "filters/frame_stages.hpp"
 #include "filters/temporal_params.hpp"
 #include "statfilter/error.hpp"
 #include "statfilter/frame_pattern.hpp"
@@ -34,6 +35,9 @@ std::vector<ParamSpec> motion_params() {
         float_param("change_z", "5", 0, 1e6,
                     "temporal-change test (motion alpha misses, e.g. an object crossing a pixel in a frame or two): "
                     "robust score against the pixel's own noise above which it moves; 0 = off"),
+        float_param("change_z_grow", "3", 0, 1e6,
+                    "temporal-change test: a pixel scoring above this moves too when joined to one above change_z "
+                    "through others that do (the rest of an object's path); 0 = not grown"),
         float_param("vector_drift", "0.5", 0, 1e9,
                     "with the renderer's motion vectors: a pixel they carry this many pixels over the shot moves "
                     "(0 = the vectors only align, they do not say where things move)"),
@@ -94,6 +98,13 @@ GuidePasses guide_passes(const Filter& filter, const Sequence& input, const Para
     return g;
 }
 
+TemporalChangeOptions temporal_change_options(const ParamSet& params, bool prefiltered) {
+    TemporalChangeOptions o;
+    o.z_threshold = params.get_float("change_z");
+    o.grow_z = prefiltered ? 0.0 : params.get_float("change_z_grow");
+    return o;
+}
+
 std::shared_ptr<Sequence> moving_weight(const Sequence& input, const Sequence& alpha, const GuidePasses& passes,
                                         const ParamSet& params, std::vector<float>* crossings,
                                         std::unique_ptr<TemporalChange>* change_test) {
@@ -104,9 +115,7 @@ std::shared_ptr<Sequence> moving_weight(const Sequence& input, const Sequence& a
         for (int64_t x = 0; x < s.width; ++x) weight->at(0, y, x, 0) = 1.0f - alpha.at(0, y, x, 0);
     const double z = params.get_float("change_z");
     if (z > 0) {
-        TemporalChangeOptions o;
-        o.z_threshold = z;
-        auto test = temporal_change_test(input, o);
+        auto test = temporal_change_test(input, temporal_change_options(params, has_frame_stage(params, "prefilter")));
         const auto change = test->map();
         if (crossings) *crossings = crossing_weight(*change, alpha);
         combine_max(*weight, *change);

@@ -55,6 +55,12 @@ std::shared_ptr<Sequence> moving_weight(const Sequence& input, const Sequence& a
                                         const ParamSet& params, std::vector<float>* crossings = nullptr,
                                         std::unique_ptr<TemporalChange>* change = nullptr);
 
+// The temporal-change test's options from a filter's parameters. Its map is not grown (grow_z 0)
+// on frames a prefilter made: a denoiser's residual is spatially correlated, so the blotches it leaves
+// pass the lower threshold where render noise does not (measured after OIDN: still-scene jitter
+// 13% higher, relMSE no lower). prefiltered: the frames the test sees are a prefilter's.
+TemporalChangeOptions temporal_change_options(const ParamSet& params, bool prefiltered);
+
 // Per pixel, the temporal-change map times alpha: motion alpha missed (an object crossing the pixel
 // in a frame or two, which no temporal basis follows), where the hybrid's first pass is the frame's
 // own diffusion (filters/hybrid_stage.hpp). The pixels with a weight above 0, in order.

@@ -81,9 +81,12 @@ void combine_max(Sequence& into, const Sequence& other);
 // log(1 + l / mean), and compared with the pixel's temporal median in units of its own noise, measured
 // from frame-to-frame differences (robust to slow trends and to the short spike itself). A pixel moves
 // where the median over a 5x5 neighbourhood of the squared score (a firefly or a lone noisy pixel does
-// not count, an object does) exceeds z_threshold^2 in some frame. 1-frame, 1-channel map of 0/1.
+// not count, an object does) exceeds z_threshold^2 in some frame, or exceeds grow_z^2 and is joined to
+// such a pixel through others that do (hysteresis: the rest of an object's path, not the lone still
+// pixels a lower threshold alone would take). 1-frame, 1-channel map of 0/1.
 struct TemporalChangeOptions {
     double z_threshold = 5.0;
+    double grow_z = 3.0;  // 0 (or >= z_threshold): no growing
 };
 std::shared_ptr<Sequence> motion_from_temporal_change(const Sequence& input, const TemporalChangeOptions& options);
 
@@ -101,6 +104,8 @@ public:
     void add_noise(const Sequence& band, int64_t y0, int64_t y1, int64_t top);
     void finish_noise();
     void add_scores(const Sequence& band, int64_t y0, int64_t y1, int64_t top);
+    // Once every band's scores are in: the map (its connected regions need the whole frame).
+    void finish_scores();
     std::shared_ptr<Sequence> map() const { return map_; }
     // Per pixel (row-major), the number of frames in which the test fires.
     const std::vector<uint32_t>& departures() const { return departures_; }

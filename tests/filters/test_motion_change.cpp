@@ -233,3 +233,48 @@ TEST(MotionPasses, TheAlbedoPassSaysWhereThingsMove) {
     EXPECT_LT(without.result("motion_fraction"), 0.01);
     EXPECT_GT(with_pass.result("motion_fraction"), 0.1);
 }
+
+// Hysteresis: a faint change (scores between grow_z and z_threshold) moves where it joins a strong
+// one, as the rim of an object's path does, and not where it stands alone, as chance does in a still
+// region. Without growing neither faint patch moves; a plain low threshold takes both.
+TEST(TemporalChange, GrowsFromAStrongChangeIntoAFaintOneButNotIntoAFaintOneAlone) {
+    auto s = wall(0.3, 0.0, false);
+    const auto darken = [&](int64_t f, int64_t y0, int64_t y1, int64_t x0, int64_t x1, float by) {
+        for (int64_t y = y0; y < y1; ++y)
+            for (int64_t x = x0; x < x1; ++x)
+                for (int64_t c = 0; c < 3; ++c) s->at(f, y, x, c) *= by;
+    };
+    const float faint = 0.8f;  // scores between 3 and 5 (a 20% darker patch)
+    darken(8, 10, 22, 6, 18, 0.1f);      // strong, in frame 8
+    darken(8, 10, 22, 18, 30, faint);    // faint, joined to it
+    darken(20, 28, 40, 44, 56, faint);   // faint, alone, in frame 20
+    const auto flagged = [](const Sequence& map, int64_t y0, int64_t y1, int64_t x0, int64_t x1) {
+        double sum = 0;
+        for (int64_t y = y0; y < y1; ++y)
+            for (int64_t x = x0; x < x1; ++x) sum += map.at(0, y, x, 0);
+        return sum / static_cast<double>((y1 - y0) * (x1 - x0));
+    };
+    const auto run = [&](double z, double grow) {
+        TemporalChangeOptions o;
+        o.z_threshold = z, o.grow_z = grow;
+        return motion_from_temporal_change(*s, o);
+    };
+    // Inner parts of each patch (the 5 x 5 medians blur their edges), and noise-only rows.
+    const auto strong = [&](const Sequence& m) { return flagged(m, 12, 20, 8, 16); };
+    const auto joined = [&](const Sequence& m) { return flagged(m, 12, 20, 21, 28); };
+    const auto alone = [&](const Sequence& m) { return flagged(m, 30, 38, 46, 54); };
+    const auto rest = [&](const Sequence& m) { return flagged(m, 42, 48, 0, 64); };
+    const auto grown = run(5, 3), plain = run(5, 0), low = run(3, 0);
+    EXPECT_GT(strong(*grown), 0.95);
+    EXPECT_GT(joined(*grown), 0.6);
+    EXPECT_EQ(alone(*grown), 0.0);
+    EXPECT_EQ(rest(*grown), 0.0);
+    EXPECT_GT(strong(*plain), 0.95);
+    EXPECT_EQ(joined(*plain), 0.0);
+    EXPECT_EQ(alone(*plain), 0.0);
+    // A plain threshold of 3 finds both faint patches, and lone noisy pixels with them.
+    EXPECT_GT(joined(*low), 0.6);
+    EXPECT_GT(alone(*low), 0.6);
+    EXPECT_GT(rest(*low), 0.0);
+    EXPECT_EQ(rest(*plain), 0.0);
+}
