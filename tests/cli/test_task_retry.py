@@ -41,10 +41,13 @@ class Folder:
         if kind == "denoise":
             run("plan", noisy, self.out / "o.####.exr", "--method", "pca", "--tiles", "4", "--frames-per-task", "32",
                 "-o", self.plan, "--quiet")
+        elif kind == "shot":  # balanced: one task runs the whole shot and writes the frames
+            run("plan", noisy, self.out / "o.####.exr", "--quality", "balanced", "-o", self.plan, "--quiet")
         else:
             run("plan", "detect", denoised, "--noisy", noisy, "--mask", self.out / "m.####.exr",
                 "--crops", self.out / "crops.json", "--tiles", "4", "-o", self.plan, "--quiet")
         self.tasks = json.loads(self.plan.read_text())["tasks"]
+        assert (json.loads(self.plan.read_text())["kind"] == "shot") == (kind == "shot")
         self.work = Path(json.loads(self.plan.read_text())["work"])
 
     def finals(self):
@@ -58,11 +61,11 @@ class Folder:
     def work_files(self):
         """The work directory's finished files (what later tasks read), by name; not the task reports,
         which carry their seconds."""
-        return {p.name: p.read_bytes() for p in self.work.iterdir()
+        return {p.name: p.read_bytes() for p in (self.work.iterdir() if self.work.exists() else [])
                 if not is_temporary(p.name) and not (p.name.startswith("task-") and p.suffix == ".json")}
 
     def temporaries(self):
-        left = [p for p in self.work.iterdir() if is_temporary(p.name)]
+        left = [p for p in self.work.iterdir() if is_temporary(p.name)] if self.work.exists() else []
         if self.out.exists():
             left += [p for p in self.out.iterdir() if is_temporary(p.name)]
         return sorted(p.name for p in left)
@@ -78,7 +81,7 @@ def shot(tmp_path_factory):
         shutil.copy(SAMPLE / "cornell_moving" / "spp0004" / f"indirect.{f:04d}.exr", root / "in" / f"noisy.{f:04d}.exr")
     noisy = root / "in" / "noisy.####.exr"
     shot = {"root": root, "noisy": noisy}
-    for kind in ("denoise", "detect"):
+    for kind in ("denoise", "detect", "shot"):
         a = Folder(root / f"A-{kind}", kind, noisy, denoised=shot.get("denoised"))
         for task in a.tasks:
             task_run(a.plan, task["index"])
@@ -87,7 +90,17 @@ def shot(tmp_path_factory):
         if kind == "denoise":
             shot["denoised"] = a.out / "o.####.exr"  # the detect plan's input
     assert len(shot["denoise"].finals()) == FRAMES and len(shot["detect"].finals()) == FRAMES + 1
+    assert len(shot["shot"].finals()) == FRAMES
     return shot
+
+
+def present(folder, name):
+    """A task report's output is there: a work file or an output, or for a frame pattern (a shot
+    task's), every frame of the shot."""
+    if "#" not in name:
+        return (folder.work / name).exists() or (folder.out / name).exists()
+    hashes = "#" * name.count("#")
+    return all((folder.out / name.replace(hashes, f"{f:0{len(hashes)}d}")).exists() for f in range(1, FRAMES + 1))
 
 
 def watched_entries(folder):
@@ -127,8 +140,10 @@ def start_and_kill(folder, index, when):
 
 
 # (plan, the phase of the task killed: the first of that phase). The reconstruction and detect tasks
-# write the files the next phase reads; the assembly and masks tasks write the final outputs.
-TARGETS = [("denoise", "reconstruct"), ("denoise", "assemble"), ("detect", "detect"), ("detect", "masks")]
+# write the files the next phase reads; the assembly and masks tasks write the final outputs, and so
+# does a shot plan's one task.
+TARGETS = [("denoise", "reconstruct"), ("denoise", "assemble"), ("detect", "detect"), ("detect", "masks"),
+           ("shot", "shot")]
 
 
 @pytest.mark.parametrize("when", ["first-file", "writing"])
@@ -150,7 +165,7 @@ def test_a_killed_task_rerun_gives_the_uninterrupted_outputs(shot, tmp_path, kin
     for name, data in b.finals().items():
         assert data == a_finals[name], f"output {name} differs from the uninterrupted run's"
     own = [Path(p).name for p in json.loads((a.work / f"task-{index}.json").read_text())["outputs"]]
-    missing = [n for n in own if not (b.work / n).exists() and not (b.out / n).exists()]
+    missing = [n for n in own if not present(b, n)]
     assert not ((b.work / f"task-{index}.json").exists() and missing), f"a report without {missing}"
     # The next phase, run now (after the killed task's siblings), takes nothing partial: when the
     # killed task's files are not all there it fails before writing any output.
