@@ -109,30 +109,33 @@ double HybridStage::maps_bytes(const Shape& s) {
                                               2 * sizeof(double) + sizeof(uint32_t) + sizeof(float));
 }
 
-double HybridStage::first_pass_bytes(const Shape& s, int threads) const {
+double HybridStage::first_pass_bytes(const Shape& s, int threads, bool keep) const {
     // Per thread while I_T is rebuilt: the first pass' copy of the frame, the noisy frame diffused on
-    // its own, two diffusions' working sets (the light pass keeps its own from frame to frame; the
-    // frame's own diffusion) and the own first pass' test of I_T.
+    // its own, a diffusion's working set (two when the light pass keeps its own from frame to frame
+    // beside the frame's own diffusion) and the own first pass' test of I_T.
     const double frame = static_cast<double>(s.pixels()) * s.channels * sizeof(float);
-    return threads * (2 * frame + 2 * diffusion_working_bytes(s.pixels(), s.channels) + OwnFirstPass::working_bytes(s));
+    const double diffusions = (keep ? 2 : 1) * diffusion_working_bytes(s.pixels(), s.channels);
+    return threads * (2 * frame + diffusions + OwnFirstPass::working_bytes(s));
 }
 
-double HybridStage::window_bytes(const Shape& s, int threads) const {
+double HybridStage::window_bytes(const Shape& s, int threads, bool keep) const {
     const double frame = static_cast<double>(s.pixels()) * s.channels * sizeof(float);
     const double frames = 2.0 * options_.mc.half_width + threads;  // the window of every frame being averaged
-    // Each window frame: samples, guide, image. Each thread: I_T, the light diffusion pass' working set
-    // (kept from frame to frame), and the first pass with the average's own buffers, the flow and
-    // DIS's images (a frame entering the window is read through one more frame, a smaller need).
+    // Each window frame: samples, guide, image. Each thread: I_T, then the first pass with the average's
+    // own buffers, the flow and DIS's images, and the light diffusion pass of the frame it hands on:
+    // one after the other, or side by side when the pass keeps its working set from frame to frame (a
+    // frame entering the window is read through one more frame, a smaller need).
     const double refine = options_.refine_after ? diffusion_working_bytes(s.pixels(), s.channels) : 0.0;
-    const double per_thread = frame + refine + std::max(frame + AlignedAverager::working_bytes(s, s.pixels()), frame);
+    const double average = frame + AlignedAverager::working_bytes(s, s.pixels());
+    const double per_thread = frame + (keep ? refine + average : std::max({average, refine, frame}));
     return frames * (2 * frame + static_cast<double>(s.pixels())) + threads * per_thread + maps_bytes(s);
 }
 
-double HybridStage::rebuild_bytes(const Shape& s, int threads) const {
+double HybridStage::rebuild_bytes(const Shape& s, int threads, bool keep) const {
     const LowRankStage temporal(options_.temporal);
     const int64_t rank = options_.temporal.per_pixel ? options_.temporal.max_rank : options_.temporal.known_rank;
     // The temporal model's own need while it rebuilds (its second pass' band, or the frames it emits).
-    return temporal.held_bytes(s, rank, threads, 1) + first_pass_bytes(s, threads) + maps_bytes(s);
+    return temporal.held_bytes(s, rank, threads, 1) + first_pass_bytes(s, threads, keep) + maps_bytes(s);
 }
 
 double HybridStage::min_bytes(const Shape& s, int threads) const {
@@ -142,7 +145,7 @@ double HybridStage::min_bytes(const Shape& s, int threads) const {
     // The passes: the temporal model, a band and the motion maps; the rebuild: the model, the maps and
     // the first pass made of each frame; the window. The last two on one thread at least.
     const double passes = temporal.pass_bytes(s, rank) + temporal.band_row_bytes(s) + analysis_bytes(s);
-    return std::max({passes, rebuild_bytes(s, 1), window_bytes(s, 1)});
+    return std::max({passes, rebuild_bytes(s, 1, false), window_bytes(s, 1, false)});
 }
 
 void HybridStage::run(const FrameSource& source, const FrameConsumer& consume, const StageContext& ctx, Results& results) {
@@ -245,6 +248,9 @@ void HybridStage::run(const FrameSource& source, const FrameConsumer& consume, c
         // 2. A still scene: global PCA (automatic rank) from the Gram at hand is all it requires.
         const Progress rebuild = part_of(progress, 0.3, 0.7);
         inner.progress = &rebuild;
+        // Room for the light pass' buffers on every thread beside the model: they are kept.
+        const double kept = ctx.threads * diffusion_working_bytes(s.pixels(), s.channels);
+        refine.keep_buffers(still.min_bytes(s, ctx.threads) + kept <= inner.budget_bytes);
         still.reconstruct(source, std::move(stats), hand_on, inner, own);
         results.set("beta_source", "none (still scene)");
         results.set("moving_basis_fraction", 0.0);
@@ -293,8 +299,12 @@ void HybridStage::run(const FrameSource& source, const FrameConsumer& consume, c
     const Progress rebuild = part_of(progress, 0.3, 0.2);
     inner.progress = &rebuild;
     // As many threads as the budget holds frames being rebuilt and diffused (min_bytes: one).
-    inner.threads = fitting_threads([&](int t) { return rebuild_bytes(s, t); });
-    inner.budget_bytes = ctx.budget_bytes - maps_bytes(s) - first_pass_bytes(s, inner.threads);
+    // The light pass keeps its buffers from frame to frame where the budget holds them at the same
+    // thread count (they save the system zeroing fresh pages for every frame; threads save more).
+    inner.threads = fitting_threads([&](int t) { return rebuild_bytes(s, t, false); });
+    const bool keep_rebuild = rebuild_bytes(s, inner.threads, true) <= ctx.budget_bytes;
+    refine.keep_buffers(keep_rebuild);
+    inner.budget_bytes = ctx.budget_bytes - maps_bytes(s) - first_pass_bytes(s, inner.threads, keep_rebuild);
     temporal.reconstruct(source, std::move(stats), [&](int64_t t, float* pixels) {
         temporal_frames.write_frame(t, pixels);
         std::vector<float> estimate(pixels, pixels + frame_samples);
@@ -375,7 +385,8 @@ void HybridStage::run(const FrameSource& source, const FrameConsumer& consume, c
     access.values = [&](int64_t f) { return window.at(f)->values.data(); };
     access.guide = [&](int64_t f) { return window.at(f)->guide.data(); };
     access.image = [&](int64_t f) { return window.at(f)->image.data(); };
-    const int window_threads = fitting_threads([&](int t) { return window_bytes(s, t); });
+    const int window_threads = fitting_threads([&](int t) { return window_bytes(s, t, false); });
+    refine.keep_buffers(window_bytes(s, window_threads, true) <= ctx.budget_bytes);
     const int64_t h = mc.half_width, batch = window_threads;
     std::vector<double> frame_weight(static_cast<size_t>(F), 0.0);
     for (int64_t t0 = 0; t0 < F; t0 += batch) {

@@ -57,9 +57,10 @@ public:
 
 private:
     double analysis_bytes(const Shape& shape) const;
-    double window_bytes(const Shape& shape, int threads) const;
-    double first_pass_bytes(const Shape& shape, int threads) const;
-    double rebuild_bytes(const Shape& shape, int threads) const;
+    // keep: the light diffusion pass keeps its working set from frame to frame (when the budget has room).
+    double window_bytes(const Shape& shape, int threads, bool keep) const;
+    double first_pass_bytes(const Shape& shape, int threads, bool keep) const;
+    double rebuild_bytes(const Shape& shape, int threads, bool keep) const;
     static double maps_bytes(const Shape& shape);
     HybridStageOptions options_;
     ParamSet refine_;  // the light diffusion pass

@@ -25,8 +25,18 @@ void FrameStagePool::apply(int64_t f, float* pixels, const Shape& whole, const S
     frame.source() = attributes.source();
     filter->execute(frame, frame, Progress());  // single-frame filters may work in place
     std::lock_guard<std::mutex> lock(mutex_);
+    if (!keep_) {
+        released_ = filter->results();
+        last_.reset();
+        return;  // filter, and its buffers, go here
+    }
     if (last_) idle_.push_back(std::move(last_));
     last_ = std::move(filter);
+}
+
+void FrameStagePool::keep_buffers(bool keep) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    keep_ = keep;
 }
 
 void FrameStagePool::add_results(Results& results) const {

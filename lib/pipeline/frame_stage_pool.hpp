@@ -24,6 +24,9 @@ public:
     // Lets every idle instance go, and the buffers it keeps for its next frame (a diffusion's): between
     // the phases of a stage that budget them apart. The results stay; the next apply makes new ones.
     void release();
+    // Whether an instance is kept for the next frame once it has filtered one (the default), with
+    // the buffers it keeps; when the budget has no room for them, each frame's instance goes after it.
+    void keep_buffers(bool keep);
 
 private:
     std::string stage_;
@@ -32,6 +35,7 @@ private:
     std::vector<std::unique_ptr<Filter>> idle_;
     std::unique_ptr<Filter> last_;
     Results released_;  // last_'s results once it is let go
+    bool keep_ = true;
 };
 
 }  // namespace statfilter
