@@ -77,9 +77,9 @@ inline bool follow_vectors(const float* vectors, int64_t width, int64_t height, 
 // Without it an antialiased edge mismatches by its whole contrast and loses its samples, which a
 // slow pan pays for everywhere (camera_pan needed a lenient sigma that let a fast ball's wrong
 // samples in).
-std::vector<float> half_pixel_range(const float* guide, int64_t width, int64_t height, int64_t channels,
-                                    const std::vector<int64_t>& pixels) {
-    std::vector<float> range(pixels.size() * static_cast<size_t>(channels) * 2);
+void half_pixel_range(const float* guide, int64_t width, int64_t height, int64_t channels,
+                      const std::vector<int64_t>& pixels, std::vector<float>& range) {
+    range.resize(pixels.size() * static_cast<size_t>(channels) * 2);
     float* r = range.data();
     for (const int64_t p : pixels) {
         const int64_t x = p % width, y = p / width;
@@ -95,7 +95,6 @@ std::vector<float> half_pixel_range(const float* guide, int64_t width, int64_t h
             r[1] = hi;
         }
     }
-    return range;
 }
 
 // How far v lies outside [lo, hi] (NaN stays NaN: no weight).
@@ -213,7 +212,21 @@ double AlignedAverager::working_bytes(const Shape& s, int64_t pixels) {
            P * (2 * sizeof(float) + 2 * sizeof(float) + 16);
 }
 
+struct AlignedScratch::Flow {
+    std::vector<cv::Vec2f> where;
+    cv::Mat field;
+};
+AlignedScratch::AlignedScratch() = default;
+AlignedScratch::~AlignedScratch() = default;
+AlignedScratch::AlignedScratch(AlignedScratch&&) noexcept = default;
+AlignedScratch& AlignedScratch::operator=(AlignedScratch&&) noexcept = default;
+
 double AlignedAverager::average(int64_t t, const AlignedWindow& window, float* out) const {
+    AlignedScratch scratch;
+    return average(t, window, out, scratch);
+}
+
+double AlignedAverager::average(int64_t t, const AlignedWindow& window, float* out, AlignedScratch& scratch) const {
     const Shape& s = shape_;
     const int64_t F = s.frames, P = s.pixels(), C = s.channels;
     const size_t n = pixels_.size();
@@ -224,15 +237,26 @@ double AlignedAverager::average(int64_t t, const AlignedWindow& window, float* o
     const auto image = [&](int64_t f) {
         return cv::Mat(static_cast<int>(s.height), static_cast<int>(s.width), CV_8UC1, const_cast<uint8_t*>(window.image(f)));
     };
-    cv::Ptr<cv::DISOpticalFlow> dis = cv::DISOpticalFlow::create(dis_preset(options_.flow));
-    cv::Mat flow;
-    std::vector<double> sum(n * static_cast<size_t>(C), 0.0), weight(n, 0.0);
+    // The buffers from the caller's scratch (kept from frame to frame). DIS is made afresh: an instance
+    // used before starts from state its last frames left (measured: other flows, other outputs).
+    if (!scratch.flow) scratch.flow = std::make_unique<AlignedScratch::Flow>();
+    const cv::Ptr<cv::DISOpticalFlow> dis_made = cv::DISOpticalFlow::create(dis_preset(options_.flow));
+    cv::DISOpticalFlow& dis = *dis_made;
+    cv::Mat& flow = scratch.flow->field;
+    std::vector<double>& sum = scratch.sum;
+    std::vector<double>& weight = scratch.weight;
+    sum.assign(n * static_cast<size_t>(C), 0.0);
+    weight.assign(n, 0.0);
     std::vector<double> sample(static_cast<size_t>(C));
-    std::vector<cv::Vec2f> where(n);     // each pixel's surface point in frame f
-    std::vector<uint8_t> tracked(n);     // still followed (vectors consistent so far)
-    std::vector<uint8_t> by_vector(n);   // followed along the vectors, else the flow
+    std::vector<cv::Vec2f>& where = scratch.flow->where;  // each pixel's surface point in frame f
+    std::vector<uint8_t>& tracked = scratch.tracked;  // still followed (vectors consistent so far)
+    std::vector<uint8_t>& by_vector = scratch.by_vector;  // followed along the vectors, else the flow
+    where.resize(n);
+    tracked.resize(n);
+    by_vector.resize(n);
     const float* gt = window.guide(t);
-    const std::vector<float> range = half_pixel_range(gt, s.width, s.height, C, pixels_);
+    std::vector<float>& range = scratch.range;
+    half_pixel_range(gt, s.width, s.height, C, pixels_, range);
     const auto accumulate = [&](int64_t f) {
         const float* vf = window.values(f);
         const float* gf = window.guide(f);
@@ -281,7 +305,7 @@ double AlignedAverager::average(int64_t t, const AlignedWindow& window, float* o
                 if (by_vector[i] && tracked[i]) tracked[i] = follow_vectors(vectors, s.width, s.height, f - dir, dir, where[i]);
             if (by_flow > 0 && estimate_flow) {
                 try {
-                    dis->calc(image(t), image(f), flow);
+                    dis.calc(image(t), image(f), flow);
                 } catch (const cv::Exception& e) {
                     throw Error(Status::Internal, std::string("optical flow failed: ") + e.what());
                 }

@@ -122,12 +122,12 @@ double HybridStage::window_bytes(const Shape& s, int threads, bool keep) const {
     const double frame = static_cast<double>(s.pixels()) * s.channels * sizeof(float);
     const double frames = 2.0 * options_.mc.half_width + threads;  // the window of every frame being averaged
     // Each window frame: samples, guide, image. Each thread: I_T, then the first pass with the average's
-    // own buffers, the flow and DIS's images, and the light diffusion pass of the frame it hands on:
-    // one after the other, or side by side when the pass keeps its working set from frame to frame (a
-    // frame entering the window is read through one more frame, a smaller need).
+    // own buffers, the flow and DIS's images, the light diffusion pass of the frame it hands on, and
+    // the frame a window frame is read through: one after the other, or side by side when the thread
+    // keeps them from frame to frame.
     const double refine = options_.refine_after ? diffusion_working_bytes(s.pixels(), s.channels) : 0.0;
     const double average = frame + AlignedAverager::working_bytes(s, s.pixels());
-    const double per_thread = frame + (keep ? refine + average : std::max({average, refine, frame}));
+    const double per_thread = frame + (keep ? refine + average + frame : std::max({average, refine, frame}));
     return frames * (2 * frame + static_cast<double>(s.pixels())) + threads * per_thread + maps_bytes(s);
 }
 
@@ -386,7 +386,15 @@ void HybridStage::run(const FrameSource& source, const FrameConsumer& consume, c
     access.guide = [&](int64_t f) { return window.at(f)->guide.data(); };
     access.image = [&](int64_t f) { return window.at(f)->image.data(); };
     const int window_threads = fitting_threads([&](int t) { return window_bytes(s, t, false); });
-    refine.keep_buffers(window_bytes(s, window_threads, true) <= ctx.budget_bytes);
+    // Where the budget holds them (window_bytes with keep), each thread keeps its frames, the average's
+    // scratch (DIS with its pyramids) and the light pass' buffers from frame to frame.
+    const bool keep = window_bytes(s, window_threads, true) <= ctx.budget_bytes;
+    refine.keep_buffers(keep);
+    struct Worker {
+        std::vector<float> frame, out, aligned;
+        AlignedScratch scratch;
+    };
+    std::vector<Worker> kept(keep ? static_cast<size_t>(window_threads) : 0);
     const int64_t h = mc.half_width, batch = window_threads;
     std::vector<double> frame_weight(static_cast<size_t>(F), 0.0);
     for (int64_t t0 = 0; t0 < F; t0 += batch) {
@@ -400,10 +408,12 @@ void HybridStage::run(const FrameSource& source, const FrameConsumer& consume, c
                 entering.push_back(f);
             }
         const double at = 0.55 + 0.45 * t0 / F;
-        parallel_for(static_cast<int64_t>(entering.size()), window_threads, [&](int64_t i) {
+        parallel_for_workers(static_cast<int64_t>(entering.size()), window_threads, [&](int64_t i, int worker) {
             const int64_t f = entering[static_cast<size_t>(i)];
             WindowFrame& w = *window.at(f);
-            std::vector<float> frame(static_cast<size_t>(frame_samples));
+            std::vector<float> own_frame;
+            std::vector<float>& frame = keep ? kept[static_cast<size_t>(worker)].frame : own_frame;
+            frame.resize(static_cast<size_t>(frame_samples));
             w.values.resize(frame.size());
             w.guide.resize(frame.size());
             w.image.resize(static_cast<size_t>(P));
@@ -412,20 +422,28 @@ void HybridStage::run(const FrameSource& source, const FrameConsumer& consume, c
             guide_frames.read_rows(f, 0, H, w.guide.data());
             flow_image(w.guide.data(), W, H, C, scale, w.image.data());
         }, {progress, at, 0, "motion compensation"});
-        parallel_for(t1 - t0, window_threads, [&](int64_t i) {
+        parallel_for_workers(t1 - t0, window_threads, [&](int64_t i, int worker) {
             const int64_t t = t0 + i;
-            std::vector<float> out(static_cast<size_t>(frame_samples));
+            Worker own;  // its buffers go with this frame unless the budget keeps them (window_bytes)
+            Worker& wk = keep ? kept[static_cast<size_t>(worker)] : own;
+            std::vector<float>& out = wk.out;
+            out.resize(static_cast<size_t>(frame_samples));
             temporal_frames.read_rows(t, 0, H, out.data());
             if (!pixels.empty()) {
-                std::vector<float> aligned(out.size());  // gone before the frame's diffusion (window_bytes)
+                std::vector<float>& aligned = wk.aligned;
+                aligned.resize(out.size());
                 first_pass.read_rows(t, 0, H, aligned.data());  // a pixel with nothing to average keeps it
-                frame_weight[static_cast<size_t>(t)] = averager.average(t, access, aligned.data());
+                frame_weight[static_cast<size_t>(t)] = averager.average(t, access, aligned.data(), wk.scratch);
                 for (const int64_t p : pixels) {
                     const float w = grown.at<float>(static_cast<int>(p));
                     for (int64_t c = 0; c < C; ++c) {
                         float& o = out[static_cast<size_t>(p * C + c)];
                         o += w * (aligned[static_cast<size_t>(p * C + c)] - o);
                     }
+                }
+                if (!keep) {  // gone before the frame's diffusion (window_bytes)
+                    std::vector<float>().swap(wk.aligned);
+                    wk.scratch = AlignedScratch();
                 }
             }
             hand_on(t, out.data());

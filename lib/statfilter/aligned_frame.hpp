@@ -6,6 +6,7 @@
 #pragma once
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <vector>
 
 #include "statfilter/motion_compensation.hpp"
@@ -59,6 +60,23 @@ struct AlignedWindow {
     std::function<const uint8_t*(int64_t)> image;  // flow_image
 };
 
+// What one thread's averages work in, kept from frame to frame by a caller that averages many (at
+// 1080p each average's buffers are 0.1 GB, which the system would otherwise map and zero afresh):
+// the sums and weights, where each pixel is and how it is followed, the guide's half-pixel range and
+// the flow field. Every buffer is written before it is read. (Not DIS: a reused instance starts from
+// the state its last frames left, and its flows differ.)
+struct AlignedScratch {
+    AlignedScratch();
+    ~AlignedScratch();
+    AlignedScratch(AlignedScratch&&) noexcept;
+    AlignedScratch& operator=(AlignedScratch&&) noexcept;
+    std::vector<double> sum, weight;
+    std::vector<uint8_t> tracked, by_vector;
+    std::vector<float> range;
+    struct Flow;  // where each pixel is and the flow field (OpenCV's types: aligned_frame.cpp)
+    std::unique_ptr<Flow> flow;
+};
+
 class AlignedAverager {
 public:
     // pixels: the pixels averaged (row-major indices); options as aligned_average's (its checks done).
@@ -74,6 +92,7 @@ public:
     // (a frame, contiguous) at the averaged pixels times frame t's gain; a pixel with nothing finite to
     // average is not written. Returns the summed weights. Safe from several threads for different t.
     double average(int64_t t, const AlignedWindow& window, float* out) const;
+    double average(int64_t t, const AlignedWindow& window, float* out, AlignedScratch& scratch) const;
 
 private:
     Shape shape_;
