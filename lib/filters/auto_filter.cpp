@@ -213,9 +213,9 @@ public:
             if (want_oidn && oidn_problem().empty()) return nullptr;
             const ParamSet hybrid = hybrid_params();
             if (!hybrid_streams(hybrid, names_guide_passes(*this, params()))) return nullptr;
-            HybridStageOptions options = hybrid_stage_options(hybrid);
+            // A prefilter the user names runs here, before the preset's stage (Filter::execute).
+            HybridStageOptions options = hybrid_stage_options(hybrid, has_frame_stage(params(), "prefilter"));
             options.refine_after = params().get_string("postfilter").empty();  // else Filter::execute runs the user's
-            if (has_frame_stage(params(), "prefilter")) options.change_z_grow = 0;  // temporal_change_options
             return std::make_unique<MotionPresetStage>(std::move(options), quality, resolved_transform(),
                                                        params().get_float("still_fraction"));
         }

@@ -93,7 +93,7 @@ public:
     // (filters/hybrid_stage.hpp); otherwise it holds the shot.
     std::unique_ptr<StreamStage> stream_stage() const override {
         if (!hybrid_streams(params(), names_guide_passes(*this, params()))) return nullptr;
-        return std::make_unique<HybridStage>(hybrid_stage_options(params()));
+        return std::make_unique<HybridStage>(hybrid_stage_options(params(), has_frame_stage(params(), "prefilter")));
     }
     // In memory, besides input and output: the first pass, the average's transformed samples and
     // guide, and the input with its fireflies replaced.

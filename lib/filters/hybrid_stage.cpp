@@ -48,7 +48,7 @@ struct WindowFrame {
 
 }  // namespace
 
-HybridStageOptions hybrid_stage_options(const ParamSet& p) {
+HybridStageOptions hybrid_stage_options(const ParamSet& p, bool prefiltered) {
     HybridStageOptions o;
     o.temporal = sub_filter_options(p.get_string("temporal"), p);
     o.still = sub_filter_options("pca", p);
@@ -60,9 +60,7 @@ HybridStageOptions hybrid_stage_options(const ParamSet& p) {
     o.alpha.high = p.get_float("alpha_high");
     o.alpha.window = static_cast<int>(p.get_int("alpha_window"));
     if (!(o.alpha.high > o.alpha.low)) throw Error(Status::InvalidArgument, "alpha_high must be above alpha_low");
-    const TemporalChangeOptions change = temporal_change_options(p, has_frame_stage(p, "prefilter"));
-    o.change_z = change.z_threshold;
-    o.change_z_grow = change.grow_z;
+    o.change = temporal_change_options(p, prefiltered);
     o.still_fraction = p.get_float("still_fraction");
     o.mc_dilate = static_cast<int>(p.get_int("mc_dilate"));
     o.mc.half_width = static_cast<int>(p.get_int("mc_half_width"));
@@ -165,12 +163,9 @@ void HybridStage::run(const FrameSource& source, const FrameConsumer& consume, c
     inner.budget_bytes = ctx.budget_bytes - analysis_bytes(s);
 
     // 1. Statistics. The Gram, and each frame's light level for the change test, in one read.
-    TemporalChangeOptions change_options;
-    change_options.z_threshold = options_.change_z;
-    change_options.grow_z = options_.change_z_grow;
-    auto change_test = std::make_unique<TemporalChange>(s, change_options);
+    auto change_test = std::make_unique<TemporalChange>(s, options_.change);
     TemporalChange& change = *change_test;
-    const bool test_change = options_.change_z > 0;
+    const bool test_change = options_.change.z_threshold > 0;
     const Progress gram_progress = part_of(progress, 0.0, 0.1);
     inner.progress = &gram_progress;
     LowRankStatistics stats = temporal.statistics(
@@ -387,7 +382,7 @@ void HybridStage::run(const FrameSource& source, const FrameConsumer& consume, c
     access.image = [&](int64_t f) { return window.at(f)->image.data(); };
     const int window_threads = fitting_threads([&](int t) { return window_bytes(s, t, false); });
     // Where the budget holds them (window_bytes with keep), each thread keeps its frames, the average's
-    // scratch (DIS with its pyramids) and the light pass' buffers from frame to frame.
+    // scratch and the light pass' buffers from frame to frame.
     const bool keep = window_bytes(s, window_threads, true) <= ctx.budget_bytes;
     refine.keep_buffers(keep);
     struct Worker {

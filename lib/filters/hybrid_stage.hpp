@@ -29,8 +29,7 @@ struct HybridStageOptions {
     LowRankOptions still;         // global PCA (automatic rank): the whole answer for a still scene
     GlobalMotionOptions alpha;    // components: the most counted
     bool signal_components = true;  // count only those above the noise threshold
-    double change_z = 5;          // the temporal-change test (0 = off)
-    double change_z_grow = 3;     // its map grown through scores above this (0 = not grown)
+    TemporalChangeOptions change;  // the temporal-change test (z_threshold 0 = off)
     double still_fraction = 0.01;
     int mc_dilate = 4;
     AlignedAverageOptions mc;     // frame_gain and vectors are the stage's
@@ -39,7 +38,8 @@ struct HybridStageOptions {
 };
 
 // The typed options of the hybrid filter, from its parameter table (checked there).
-HybridStageOptions hybrid_stage_options(const ParamSet& hybrid_params);
+// prefiltered: the frames the stage sees are a prefilter's (temporal_change_options).
+HybridStageOptions hybrid_stage_options(const ParamSet& hybrid_params, bool prefiltered);
 // Whether the hybrid with these parameters streams: motion compensation on, one shared basis, and no
 // renderer pass (albedo, normal, vectors) to read alongside, which still run in memory.
 bool hybrid_streams(const ParamSet& hybrid_params, bool names_passes);

@@ -35,6 +35,7 @@ void FrameStagePool::apply(int64_t f, float* pixels, const Shape& whole, const S
 }
 
 void FrameStagePool::keep_buffers(bool keep) {
+    if (!keep) release();  // the idle instances kept so far, with their buffers
     std::lock_guard<std::mutex> lock(mutex_);
     keep_ = keep;
 }

@@ -25,7 +25,8 @@ public:
     // the phases of a stage that budget them apart. The results stay; the next apply makes new ones.
     void release();
     // Whether an instance is kept for the next frame once it has filtered one (the default), with
-    // the buffers it keeps; when the budget has no room for them, each frame's instance goes after it.
+    // the buffers it keeps; when the budget has no room for them, each frame's instance goes after it
+    // (and the idle ones go now).
     void keep_buffers(bool keep);
 
 private:
