@@ -180,7 +180,7 @@ def denoise(input: str, output: str, client: Any = None, method: Optional[str] =
         reports = _run_on_client(client, as_completed, plan, plan_path, os.path.basename(plan_dir), memory, threads,
                                  retries, progress)
         finished = time.time()
-        workers = len(client.scheduler_info().get("workers", {}))
+        workers = _worker_count(client)
     finally:
         if own_cluster is not None:
             client.close()
@@ -280,7 +280,7 @@ def detect(denoised: str, noisy: Optional[str], mask: Optional[str] = None, crop
     if client is not None:
         reports = _run_on_client(client, as_completed, plan, plan_path, os.path.basename(plan_dir), memory, threads,
                                  retries, progress)
-        workers = len(client.scheduler_info().get("workers", {}))
+        workers = _worker_count(client)
     else:
         reports = _run_here(plan, plan_path, memory, threads, progress)
         workers = 1
@@ -291,6 +291,13 @@ def detect(denoised: str, noisy: Optional[str], mask: Optional[str] = None, crop
     else:
         report["plan"] = plan_path
     return report
+
+
+def _worker_count(client: Any) -> int:
+    """The workers the scheduler has now. Asked directly (nthreads is one call to the scheduler): the
+    client's cached scheduler_info() is refreshed in the background with no per-worker entries, so it
+    can say 0 workers in a race (seen in CI with two live workers)."""
+    return len(client.nthreads())
 
 
 def _report(plan: Dict[str, Any], reports: List[Dict[str, Any]], plan_seconds: float, run_seconds: float,
