@@ -1,9 +1,11 @@
-// Artifact detection's additions to the C ABI: named filter inputs, the crop-window list, and merge.
+// Artifact detection's additions to the C ABI: named filter inputs, the degree map's preview, the
+// crop-window list, and merge.
 #include <cstring>
 
 #include "api_guard.hpp"
 #include "options.hpp"
 #include "statfilter/crop_windows.hpp"
+#include "statfilter/degree_preview.hpp"
 #include "statfilter/rerender_merge.hpp"
 
 using namespace statfilter;
@@ -19,6 +21,13 @@ sf_status sf_filter_set_input(sf_filter filter, const char* name, sf_sequence se
             f.filter->set_input(require_string(name, "name"), sequence ? sequence->sequence.get() : nullptr);
         },
         handle_error);
+}
+
+sf_status sf_detect_degree_preview(sf_sequence degree_map, int64_t degree, sf_sequence* preview) {
+    return guarded([&] {
+        require(preview, "preview") = nullptr;
+        *preview = new sf_sequence_s{degree_preview(require_sequence(degree_map, "degree_map"), degree)};
+    });
 }
 
 sf_status sf_crops_windows(const char* crops_json, sf_crop_window* windows, size_t capacity, size_t* count,

@@ -1,7 +1,10 @@
 // sf_plan_*: a run written as a plan of tasks, and one task of it run (lib/distributed/).
+#include <algorithm>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <vector>
 
 #include "api_guard.hpp"
 #include "distributed/detect_plan.hpp"
@@ -115,6 +118,91 @@ JsonValue read_plan(const std::string& path) {
 
 std::string absolute(const std::string& path) { return fs::absolute(path).lexically_normal().string(); }
 
+// sf_plan_write_detect(_outputs): every output checked as the single-process detect would write it
+// (tools/cmd_detect.cpp: the mask half float, the score and maps float), then the plan written.
+void write_detect_plan(sf_filter filter, const char* denoised_pattern, const char* noisy_pattern,
+                       const sf_read_options* read, const sf_detect_outputs& o, const sf_run_options* run,
+                       const sf_plan_options* plan, const char* plan_path) {
+    sf_filter_s& handle = require(filter, "filter");
+    if (handle.name != "detect")
+        throw Error(Status::InvalidArgument, "a detect plan takes the \"detect\" filter, not \"" + handle.name + "\"");
+    const sf_run_options r = read_versioned(run, sf_run_options_init);
+    const sf_plan_options p = read_versioned(plan, sf_plan_options_init);
+    const sf_read_options ro_c = read_versioned(read, sf_read_options_init);
+    check_run_options(r, "the default", "every core");
+    if (r.overwrite) throw Error(Status::InvalidArgument, "a detect plan does not overwrite its inputs (run->overwrite is refused)");
+    auto given = [](const char* path) { return path && *path ? absolute(path) : std::string(); };
+    DetectPlanRequest request;
+    request.mask = given(o.mask);
+    request.crops = given(o.crops);
+    request.score = given(o.score);
+    request.degree_map = given(o.degree_map);
+    request.preview = given(o.preview);
+    const std::vector<std::pair<const char*, std::string>> outputs = {
+        {"mask", request.mask}, {"crops", request.crops}, {"score", request.score},
+        {"degree_map", request.degree_map}, {"preview", request.preview}};
+    if (std::all_of(outputs.begin(), outputs.end(), [](const auto& out) { return out.second.empty(); }))
+        throw Error(Status::InvalidArgument, "a detect plan writes the mask, crops, score, degree_map or preview: give one");
+    request.denoised = absolute(require_string(denoised_pattern, "denoised_pattern"));
+    request.noisy = noisy_pattern && *noisy_pattern ? absolute(noisy_pattern) : std::string();
+    for (size_t i = 0; i < outputs.size(); ++i)
+        for (size_t j = 0; j < outputs.size(); ++j) {
+            const std::string& a = outputs[i].second;
+            if (a.empty()) continue;
+            if (a == request.denoised || a == request.noisy)
+                throw Error(Status::InvalidArgument, std::string("the ") + outputs[i].first + " output '" + a + "' is an input");
+            if (j > i && a == outputs[j].second)
+                throw Error(Status::InvalidArgument, std::string("the ") + outputs[i].first + " and " + outputs[j].first +
+                                                         " outputs are both '" + a + "'");
+        }
+    const std::string path = require_string(plan_path, "plan_path");
+    handle.filter->check();
+    ReadOptions ro = read_options_from(&ro_c);
+    ro.progress = Progress();
+    auto source = open_frame_source(request.denoised, ro);
+    std::unique_ptr<FrameSource> noisy_source;
+    if (!request.noisy.empty()) noisy_source = open_frame_source(request.noisy, ro);
+    // Each image output's checks, now (nothing is written): as the masks task writes it.
+    sf_write_options wo_c;
+    sf_write_options_init(&wo_c);
+    wo_c.pixel_type = SF_PIXEL_HALF;
+    auto check_output = [&](const std::string& pattern, int64_t frames, const char* channel, bool as_float) {
+        if (pattern.empty()) return;
+        WriteOptions wo = write_options_from(&wo_c);
+        wo.progress = Progress();
+        if (as_float) wo.half = false;
+        Sequence attributes(Shape{frames, 1, 1, 1});
+        attributes.channel_names()[0] = channel;
+        attributes.frame_numbers() = source->attributes().frame_numbers();
+        attributes.frame_numbers().resize(static_cast<size_t>(frames));
+        for (const std::string& input : {request.denoised, request.noisy}) {
+            if (input.empty()) continue;
+            OutputChecks checks;
+            checks.width = source->shape().width;
+            checks.height = source->shape().height;
+            checks.input_pattern = input;
+            open_frame_sink(pattern, wo, attributes, checks);
+        }
+    };
+    const int64_t frames = source->shape().frames;
+    check_output(request.mask, frames, "mask", false);
+    check_output(request.score, frames, "score", true);
+    check_output(request.degree_map, 1, "degree", true);
+    check_output(request.preview, 1, "R", true);
+    if (!request.crops.empty()) fs::create_directories(fs::path(request.crops).parent_path());
+    request.work_dir = absolute(p.work_dir && *p.work_dir ? std::string(p.work_dir) : path + ".work");
+    request.tiles = p.tiles;
+    request.tile_rows = p.tile_rows;
+    request.budget_bytes = static_cast<double>(r.memory);
+    request.threads = r.threads;
+    request.front_end = front_end_json(handle.name, *handle.filter, ro_c, wo_c);
+    const std::string text = make_detect_plan(*handle.filter, *source, noisy_source.get(), request);
+    fs::create_directories(request.work_dir);
+    AtomicFile file(path);
+    file.write_at(0, text.data(), text.size());
+    file.commit();
+}
+
 }  // namespace
 
 extern "C" {
@@ -170,71 +258,34 @@ sf_status sf_plan_write(sf_filter filter, const char* input_pattern, const sf_re
     }, handle_error);
 }
 
+void sf_detect_outputs_init(sf_detect_outputs* outputs) {
+    if (!outputs) return;
+    std::memset(outputs, 0, sizeof *outputs);
+    outputs->struct_size = sizeof *outputs;
+}
+
 sf_status sf_plan_write_detect(sf_filter filter, const char* denoised_pattern, const char* noisy_pattern,
                                const sf_read_options* read, const char* mask_pattern, const char* crops_path,
                                const sf_run_options* run, const sf_plan_options* plan, const char* plan_path) {
     std::string* handle_error = filter ? &filter->last_error : nullptr;
     return guarded([&] {
-        sf_filter_s& handle = require(filter, "filter");
-        if (handle.name != "detect")
-            throw Error(Status::InvalidArgument, "sf_plan_write_detect takes the \"detect\" filter, not \"" + handle.name + "\"");
-        const sf_run_options r = read_versioned(run, sf_run_options_init);
-        const sf_plan_options p = read_versioned(plan, sf_plan_options_init);
-        const sf_read_options ro_c = read_versioned(read, sf_read_options_init);
-        check_run_options(r, "the default", "every core");
-        if (r.overwrite) throw Error(Status::InvalidArgument, "a detect plan does not overwrite its inputs (run->overwrite is refused)");
-        const bool has_mask = mask_pattern && *mask_pattern, has_crops = crops_path && *crops_path;
-        if (!has_mask && !has_crops)
+        if (!(mask_pattern && *mask_pattern) && !(crops_path && *crops_path))
             throw Error(Status::InvalidArgument, "a detect plan writes the mask (mask_pattern), the crop windows (crops_path) or both: give one");
-        const std::string denoised = absolute(require_string(denoised_pattern, "denoised_pattern"));
-        const std::string noisy = noisy_pattern && *noisy_pattern ? absolute(noisy_pattern) : std::string();
-        const std::string path = require_string(plan_path, "plan_path");
-        handle.filter->check();
-        ReadOptions ro = read_options_from(&ro_c);
-        ro.progress = Progress();
-        auto source = open_frame_source(denoised, ro);
-        std::unique_ptr<FrameSource> noisy_source;
-        if (!noisy.empty()) noisy_source = open_frame_source(noisy, ro);
-        // The mask as the single-process detect writes it (tools/cmd_detect.cpp): half float.
-        sf_write_options wo_c;
-        sf_write_options_init(&wo_c);
-        wo_c.pixel_type = SF_PIXEL_HALF;
-        DetectPlanRequest request;
-        request.denoised = denoised;
-        request.noisy = noisy;
-        if (has_mask) {
-            request.mask = absolute(mask_pattern);
-            WriteOptions wo = write_options_from(&wo_c);
-            wo.progress = Progress();
-            Sequence attributes(Shape{source->shape().frames, 1, 1, 1});
-            attributes.channel_names()[0] = "mask";
-            attributes.frame_numbers() = source->attributes().frame_numbers();
-            for (const std::string& input : {denoised, noisy}) {
-                if (input.empty()) continue;
-                OutputChecks checks;
-                checks.width = source->shape().width;
-                checks.height = source->shape().height;
-                checks.input_pattern = input;
-                open_frame_sink(request.mask, wo, attributes, checks);  // the mask's checks, now; nothing written
-            }
-        }
-        if (has_crops) {
-            request.crops = absolute(crops_path);
-            fs::create_directories(fs::path(request.crops).parent_path());
-            if (request.crops == denoised || request.crops == noisy || request.crops == request.mask)
-                throw Error(Status::InvalidArgument, "the crops file '" + request.crops + "' is an input or the mask pattern");
-        }
-        request.work_dir = absolute(p.work_dir && *p.work_dir ? std::string(p.work_dir) : path + ".work");
-        request.tiles = p.tiles;
-        request.tile_rows = p.tile_rows;
-        request.budget_bytes = static_cast<double>(r.memory);
-        request.threads = r.threads;
-        request.front_end = front_end_json(handle.name, *handle.filter, ro_c, wo_c);
-        const std::string text = make_detect_plan(*handle.filter, *source, noisy_source.get(), request);
-        fs::create_directories(request.work_dir);
-        AtomicFile file(path);
-        file.write_at(0, text.data(), text.size());
-        file.commit();
+        sf_detect_outputs outputs;
+        sf_detect_outputs_init(&outputs);
+        outputs.mask = mask_pattern;
+        outputs.crops = crops_path;
+        write_detect_plan(filter, denoised_pattern, noisy_pattern, read, outputs, run, plan, plan_path);
+    }, handle_error);
+}
+
+sf_status sf_plan_write_detect_outputs(sf_filter filter, const char* denoised_pattern, const char* noisy_pattern,
+                                       const sf_read_options* read, const sf_detect_outputs* outputs,
+                                       const sf_run_options* run, const sf_plan_options* plan, const char* plan_path) {
+    std::string* handle_error = filter ? &filter->last_error : nullptr;
+    return guarded([&] {
+        write_detect_plan(filter, denoised_pattern, noisy_pattern, read,
+                          read_versioned(&require(outputs, "outputs"), sf_detect_outputs_init), run, plan, plan_path);
     }, handle_error);
 }
 
@@ -265,12 +316,14 @@ sf_status sf_plan_run_task(const char* plan_path, int64_t task, const sf_run_opt
         context.filter = filter.get();
         context.source = source.get();
         context.noisy = noisy.get();
-        context.open_sink = [&](const std::string& pattern, const Sequence& attributes) {
+        context.open_sink = [&](const std::string& pattern, const Sequence& attributes, bool as_float) {
             OutputChecks checks;
             checks.width = source->shape().width;
             checks.height = source->shape().height;
             checks.input_pattern = input->string();
-            return open_frame_sink(pattern, wo, attributes, checks);
+            WriteOptions options = wo;
+            if (as_float) options.half = false;
+            return open_frame_sink(pattern, options, attributes, checks);
         };
         std::string changed;
         for (const auto& [name, value] : fe->parameters) changed += (changed.empty() ? "" : " ") + name + "=" + value;

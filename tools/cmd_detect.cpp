@@ -50,33 +50,11 @@ void write_result_image(const FilterHandle& filter, const char* name, const std:
     check(sf_sequence_write(image.get(), pattern.c_str(), &o));
 }
 
-// The degree map for people: degree 0 dark blue through yellow at the highest degree; pixels no
-// degree explains in red.
+// The degree map for people (sf_detect_degree_preview: the picture a detect plan writes too).
 void write_degree_preview(const FilterHandle& filter, int64_t degree, const std::string& path) {
-    SequenceHandle map;
+    SequenceHandle map, rgb;
     filter.check(sf_filter_result_sequence(filter.get(), "degree_map", map.out()));
-    const sf_shape s = map.shape();
-    SequenceHandle rgb;
-    check(sf_sequence_create(sf_shape{1, s.height, s.width, 3}, rgb.out()));
-    float *src = nullptr, *dst = nullptr;
-    sf_strides ss{}, ds{};
-    check(sf_sequence_data(map.get(), &src, &ss));
-    check(sf_sequence_data(rgb.get(), &dst, &ds));
-    for (int64_t y = 0; y < s.height; ++y)
-        for (int64_t x = 0; x < s.width; ++x) {
-            const float d = *reinterpret_cast<const float*>(reinterpret_cast<const char*>(src) + y * ss.row + x * ss.pixel);
-            float* out = reinterpret_cast<float*>(reinterpret_cast<char*>(dst) + y * ds.row + x * ds.pixel);
-            if (d > static_cast<float>(degree)) {
-                out[0] = 0.9f, out[1] = 0.1f, out[2] = 0.1f;
-                continue;
-            }
-            const float t = degree > 0 ? std::clamp(d / static_cast<float>(degree), 0.0f, 1.0f) : 0.0f;
-            out[0] = std::clamp(1.8f * t - 0.5f, 0.0f, 1.0f);
-            out[1] = std::clamp(0.15f + 0.85f * t, 0.0f, 1.0f);
-            out[2] = std::clamp(0.55f - 0.5f * t, 0.0f, 1.0f);
-        }
-    const char* names[] = {"R", "G", "B"};
-    for (int c = 0; c < 3; ++c) check(sf_sequence_set_channel_name(rgb.get(), c, names[c]));
+    check(sf_detect_degree_preview(map.get(), degree, rgb.out()));
     sf_write_options o;
     sf_write_options_init(&o);
     o.pixel_type = SF_PIXEL_FLOAT;  // PNG stores 8 bits; OpenImageIO converts

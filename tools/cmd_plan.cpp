@@ -26,23 +26,27 @@ std::string dashes_to_underscores(std::string s) {
     return s;
 }
 
-// statfilter plan detect DENOISED --noisy NOISY [--mask M] [--crops C] [detect parameters] -o PLAN:
+// statfilter plan detect DENOISED --noisy NOISY [--mask M] [--crops C] [--score S] [--degree-map D]
+// [--preview P] [detect parameters] -o PLAN:
 // `statfilter detect` as a plan, read the same way with `plan` in front.
 int plan_detect(int argc, char** argv) {
     const Args args(argc, argv, 3, {"help", "quiet"},
-                    merged({kInputOptions, kRunOptions, {"noisy", "mask", "crops", "output-file", "tiles", "tile-rows", "work"}}),
+                    merged({kInputOptions, kRunOptions, {"noisy", "mask", "crops", "score", "degree-map", "preview", "output-file", "tiles", "tile-rows", "work"}}),
                     filter_parameter_names("detect"));
     if (args.flag("help")) {
         std::printf("usage: statfilter plan detect DENOISED --noisy NOISY [--mask M.####.exr] [--crops C.json]\n"
+                    "                      [--score S.####.exr] [--degree-map D.exr] [--preview D.png]\n"
                     "                      [detect parameters] [--tiles N | --tile-rows R] -o PLAN\n\n"
                     "Writes 'statfilter detect' as a plan of tasks (JSON) that 'statfilter task PLAN N' runs one at\n"
                     "a time, in the order of each task's 'after' list: noise tasks per band of rows, one tolerance\n"
-                    "task, detect tasks per band, one task writing the mask frames and the crop windows. The mask\n"
-                    "and crop windows are the same as 'statfilter detect' writes with the same options\n"
-                    "(docs/distributed.md).\n\n"
+                    "task, detect tasks per band, one task writing the frames, maps and crop windows. Each is the\n"
+                    "same as 'statfilter detect' writes with the same options (docs/distributed.md).\n\n"
                     "  --noisy PATTERN         the noisy render DENOISED was made from\n"
                     "  --mask PATTERN          write the mask, one EXR per frame\n"
-                    "  --crops PATH            write the crop windows as JSON (at least one of --mask, --crops)\n"
+                    "  --crops PATH            write the crop windows as JSON\n"
+                    "  --score PATTERN         write the estimated relMSE of each pixel-frame (float EXR per frame)\n"
+                    "  --degree-map PATH       write the degree map, one float EXR\n"
+                    "  --preview PATH.png      false-colour preview of the degree map (at least one output is given)\n"
                     "  -o PLAN, --output-file PLAN   the plan file to write\n"
                     "  --tiles N               bands of rows (or --tile-rows R rows each; default 256 rows)\n"
                     "  --work DIR              where tasks exchange files, on shared storage (default PLAN.work)\n"
@@ -53,25 +57,35 @@ int plan_detect(int argc, char** argv) {
     }
     if (args.positionals().size() != 1) throw UsageError("plan detect takes one DENOISED pattern (see --help)");
     if (!args.has("output-file")) throw UsageError("give the plan file to write: -o PLAN");
-    if (!args.has("mask") && !args.has("crops")) throw UsageError("give what the plan writes: --mask PATTERN, --crops PATH or both");
+    if (!args.has("mask") && !args.has("crops") && !args.has("score") && !args.has("degree-map") && !args.has("preview"))
+        throw UsageError("give what the plan writes: --mask PATTERN, --crops PATH, --score PATTERN, --degree-map PATH or --preview PATH");
     if (args.has("tiles") && args.has("tile-rows")) throw UsageError("give --tiles or --tile-rows, not both");
-    if (args.has("mask")) check_exr_output(args.option("mask"));
+    for (const char* frames : {"mask", "score"})
+        if (args.has(frames)) check_exr_output(args.option(frames));
     const std::string in = args.positionals()[0], plan = args.option("output-file");
     sf_run_options run = run_options(args);
     sf_plan_options options;
     sf_plan_options_init(&options);
     options.tiles = count_option(args, "tiles");
     options.tile_rows = count_option(args, "tile-rows");
-    const std::string work = args.option("work"), noisy = args.option("noisy"), mask = args.option("mask"),
-                      crops = args.option("crops");
+    const std::string work = args.option("work"), noisy = args.option("noisy");
     options.work_dir = work.empty() ? nullptr : work.c_str();
+    const std::string mask = args.option("mask"), crops = args.option("crops"), score = args.option("score"),
+                      degree_map = args.option("degree-map"), preview = args.option("preview");
+    auto given = [](const std::string& s) { return s.empty() ? nullptr : s.c_str(); };
+    sf_detect_outputs outputs;
+    sf_detect_outputs_init(&outputs);
+    outputs.mask = given(mask);
+    outputs.crops = given(crops);
+    outputs.score = given(score);
+    outputs.degree_map = given(degree_map);
+    outputs.preview = given(preview);
     FilterHandle filter("detect");
     for (const auto& [name, value] : args.extras())
         filter.check(sf_filter_set_string(filter.get(), dashes_to_underscores(name).c_str(), value.c_str()));
     IoSettings io(args);
-    filter.check(sf_plan_write_detect(filter.get(), in.c_str(), noisy.empty() ? nullptr : noisy.c_str(), &io.read,
-                                      mask.empty() ? nullptr : mask.c_str(), crops.empty() ? nullptr : crops.c_str(),
-                                      &run, &options, plan.c_str()));
+    filter.check(sf_plan_write_detect_outputs(filter.get(), in.c_str(), given(noisy), &io.read, &outputs, &run, &options,
+                                              plan.c_str()));
     int64_t count = 0;
     check(sf_plan_task_count(plan.c_str(), &count));
     if (!args.flag("quiet"))

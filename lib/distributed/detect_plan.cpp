@@ -15,8 +15,9 @@ namespace statfilter {
 std::string make_detect_plan(const Filter& filter, const FrameSource& denoised, const FrameSource* noisy,
                              const DetectPlanRequest& request) {
     filter.check();
-    if (request.mask.empty() && request.crops.empty())
-        throw Error(Status::InvalidArgument, "a detect plan writes the mask, the crop windows or both: give one");
+    if (request.mask.empty() && request.crops.empty() && request.score.empty() && request.degree_map.empty() &&
+        request.preview.empty())
+        throw Error(Status::InvalidArgument, "a detect plan writes the mask, the crop windows, the score, the degree map or its preview: give one");
     if (request.tiles < 0 || request.tile_rows < 0)
         throw Error(Status::InvalidArgument, "tiles and tile rows must be >= 0");
     if (request.tiles > 0 && request.tile_rows > 0)
@@ -62,11 +63,13 @@ std::string make_detect_plan(const Filter& filter, const FrameSource& denoised, 
     const std::string reason = "detection is per pixel over time but for window averages reaching " +
                                std::to_string(halo) + " rows and the tolerance (the median relative noise of every pixel): " +
                                std::to_string(tiles) + " bands of " + std::to_string(rows) +
-                               " rows, one tolerance task between two passes over them, one task writing the mask frames and crop windows";
+                               " rows, one tolerance task between two passes over them, one task writing the frames, maps and crop windows";
     std::ostringstream out;
     out << "{\n  \"format\": \"statfilter-plan\",\n  \"version\": 1,\n";
     out << "  \"input\": " << json_quote(request.denoised) << ",\n  \"noisy\": " << json_quote(request.noisy) << ",\n";
     out << "  \"output\": " << json_quote(request.mask) << ",\n  \"crops\": " << json_quote(request.crops) << ",\n";
+    out << "  \"score\": " << json_quote(request.score) << ",\n  \"degree_map\": " << json_quote(request.degree_map)
+        << ",\n  \"preview\": " << json_quote(request.preview) << ",\n";
     out << "  \"work\": " << json_quote(request.work_dir) << ",\n";
     out << "  \"front_end\": " << (request.front_end.empty() ? "{}" : request.front_end) << ",\n";
     out << "  \"memory\": " << json_number(request.budget_bytes) << ",\n  \"threads\": " << request.threads << ",\n";

@@ -5,8 +5,9 @@
 // relative noise. So it is cut into bands of full-width rows of every frame: "noise" tasks (one per
 // band: its pixels' relative noise), one "tolerance" task (the median of them all, in band order:
 // the tolerance), "detect" tasks (one per band, reading its halo rows: the band's mask rows of every
-// frame and its counts) and one "masks" task that writes each mask frame once and the crop windows
-// from the bands. The mask and the crops are the single-process detect's, bit for bit.
+// frame and its counts, and its score and degree rows when asked for) and one "masks" task that writes
+// each mask (and score) frame once, the degree map, its preview and the crop windows from the bands.
+// Every output is the single-process detect's, bit for bit.
 #pragma once
 #include <cstdint>
 #include <string>
@@ -20,7 +21,9 @@ namespace statfilter {
 
 struct DetectPlanRequest {
     std::string denoised, noisy;  // patterns, absolute (noisy "" without it)
-    std::string mask, crops;      // what to write, absolute ("" = not written; one of them is given)
+    // What to write, absolute ("" = not written; at least one is given): the mask and score frame
+    // patterns, the crop windows' JSON, the degree map (one frame) and its preview.
+    std::string mask, crops, score, degree_map, preview;
     std::string work_dir;
     int64_t tiles = 0, tile_rows = 0;  // as PlanRequest's
     double budget_bytes = 0;

@@ -10,8 +10,10 @@
 #include "filters/detect_filter.hpp"
 #include "pipeline/memory_budget.hpp"
 #include "pipeline/parallel.hpp"
+#include "statfilter/degree_preview.hpp"
 #include "statfilter/error.hpp"
 #include "statfilter/frame_pattern.hpp"
+#include "statfilter/sequence_io.hpp"
 
 namespace statfilter {
 namespace {
@@ -21,12 +23,17 @@ constexpr char kNoiseMagic[8] = {'S', 'F', 'N', 'O', 'I', 'S', 'E', '1'};
 constexpr char kToleranceMagic[8] = {'S', 'F', 'D', 'E', 'L', 'T', 'A', '1'};
 constexpr char kBandMagic[8] = {'S', 'F', 'D', 'M', 'A', 'S', 'K', '1'};
 constexpr int64_t kBandHeader = 8 + 7 * 8;  // magic, frames, rows, width, flagged, unexplained, degree sum, explained
+constexpr char kScoreMagic[8] = {'S', 'F', 'D', 'S', 'C', 'O', 'R', '1'};
+constexpr char kDegreeMagic[8] = {'S', 'F', 'D', 'D', 'E', 'G', 'R', '1'};
+constexpr int64_t kRowsHeader = 8 + 3 * 8;  // magic, frames, rows, width; then float32 samples, frame by frame
 
 struct Work {
     std::string dir;
     std::string noise(int64_t tile) const { return dir + "/noise-" + std::to_string(tile) + ".bin"; }
     std::string tolerance() const { return dir + "/tolerance.bin"; }
     std::string band(int64_t tile) const { return dir + "/mask-" + std::to_string(tile) + ".bin"; }
+    std::string score(int64_t tile) const { return dir + "/score-" + std::to_string(tile) + ".f32"; }
+    std::string degree(int64_t tile) const { return dir + "/degree-" + std::to_string(tile) + ".f32"; }
     std::string report(int64_t task) const { return dir + "/task-" + std::to_string(task) + ".json"; }
 };
 
@@ -135,11 +142,45 @@ std::pair<double, double> read_tolerance(Run& run) {
     return {v[0], v[1]};
 }
 
+// A band's rows of an image result (score: every frame; degree map: one), float32 after a header.
+void write_rows(Run& run, const std::string& path, const char* magic, const Sequence& rows) {
+    const Shape& s = rows.shape();
+    std::vector<char> out;
+    append(out, magic, 8);
+    for (int64_t v : {s.frames, s.height, s.width}) append(out, &v, 8);
+    const size_t header = out.size(), frame = static_cast<size_t>(s.pixels()) * sizeof(float);
+    out.resize(header + static_cast<size_t>(s.frames) * frame);
+    for (int64_t f = 0; f < s.frames; ++f) rows.get_frame(f, reinterpret_cast<float*>(out.data() + header + static_cast<size_t>(f) * frame));
+    write_file(path, out.data(), out.size());
+    run.bytes_written += static_cast<int64_t>(out.size());
+    run.outputs.push_back(path);
+}
+
+// Rows [y0, y1) of frame f of a band's image result file, checked against the band's shape.
+void read_rows(Run& run, const std::string& path, const char* magic, int64_t frames, int64_t rows, int64_t width,
+               int64_t f, float* dst) {
+    check_magic(path, magic);
+    int64_t h[3];
+    read_file_at(path, 8, h, sizeof h);
+    if (h[0] != frames || h[1] != rows || h[2] != width) throw Error(Status::Io, "'" + path + "' does not match the plan's band");
+    const size_t bytes = static_cast<size_t>(rows * width) * sizeof(float);
+    read_file_at(path, kRowsHeader + f * static_cast<int64_t>(bytes), dst, bytes);
+    run.bytes_read += static_cast<int64_t>(bytes);
+}
+
+bool wants_degree(const JsonValue& plan) {
+    return !optional_text(plan, "degree_map").empty() || !optional_text(plan, "preview").empty();
+}
+
 void detect_task(Run& run, const JsonValue& task) {
     const double delta = read_tolerance(run).first;
     const Band b = band_of(run, task);
     const DetectBand found = detect_rows(b.rows(), run.options, delta, run.context.progress);
     const Shape& s = found.mask->shape();
+    const int64_t tile = integer(task, "tile", "task");
+    // The image results asked for, before the band's mask: a band file there means its rows are done.
+    if (!optional_text(run.plan, "score").empty()) write_rows(run, run.work.score(tile), kScoreMagic, *found.score);
+    if (wants_degree(run.plan)) write_rows(run, run.work.degree(tile), kDegreeMagic, *found.degree_map);
     std::vector<char> out;
     append(out, kBandMagic, 8);
     for (int64_t v : {s.frames, s.height, s.width, found.flagged, found.unexplained, found.degree_sum, found.explained})
@@ -150,14 +191,71 @@ void detect_task(Run& run, const JsonValue& task) {
     for (int64_t f = 0; f < s.frames; ++f)
         for (int64_t y = 0; y < s.height; ++y)
             for (int64_t x = 0; x < s.width; ++x) *mask++ = found.mask->at(f, y, x, 0) != 0.0f;
-    const std::string path = run.work.band(integer(task, "tile", "task"));
+    const std::string path = run.work.band(tile);
     write_file(path, out.data(), out.size());
     run.bytes_written += static_cast<int64_t>(out.size());
     run.outputs.push_back(path);
 }
 
-// Writes every mask frame once (staged beside the mask pattern, each moved into place by one rename)
-// and the crop windows, from the bands' masks; the results are the detect filter's.
+// Frames of one pattern written under a staging directory beside it, each moved into place by one
+// rename once every frame is written: a killed task leaves none of them under its final name.
+class StagedFrames {
+public:
+    // The frames of an image result of the detect filter, one channel named `part`.
+    StagedFrames(Run& run, int64_t index, const std::string& pattern, const char* part, bool as_float)
+        : run_(run), pattern_(pattern), staging_(staging_dir(run.plan, index, pattern) + "-" + part),
+          attributes_(std::make_unique<Sequence>(Shape{run.context.source->shape().frames, 1, 1, 1})) {
+        clear_staging(staging_);
+        attributes_->channel_names()[0] = part;
+        attributes_->frame_numbers() = run.context.source->attributes().frame_numbers();
+        // The sink reads the attributes as it writes: they live as long as it does.
+        sink_ = run.context.open_sink(staged_pattern(staging_, pattern_), *attributes_, as_float);
+    }
+    void write(int64_t f, const float* pixels) { sink_->write_frame(f, pixels); }
+    // Every frame written: moved into place.
+    void finish() {
+        sink_->commit();
+        sink_.reset();
+        run_.bytes_written += publish_staged(staging_, pattern_, attributes_->frame_numbers(), run_.outputs);
+    }
+
+private:
+    Run& run_;
+    std::string pattern_, staging_;
+    std::unique_ptr<Sequence> attributes_;
+    std::unique_ptr<FrameSink> sink_;
+};
+
+// The degree map (one frame, channel "degree") from the bands' rows, written as `statfilter detect
+// --degree-map` writes it, and its preview as `--preview` does.
+void write_degree_outputs(Run& run, const std::vector<std::pair<int64_t, int64_t>>& tiles) {
+    const Shape& s = run.context.source->shape();
+    Sequence map(Shape{1, s.height, s.width, 1});
+    map.channel_names()[0] = "degree";
+    map.frame_numbers() = {run.context.source->attributes().frame_numbers().front()};
+    std::vector<float> rows;
+    for (size_t k = 0; k < tiles.size(); ++k) {
+        const auto [y0, y1] = tiles[k];
+        rows.resize(static_cast<size_t>((y1 - y0) * s.width));
+        read_rows(run, run.work.degree(static_cast<int64_t>(k)), kDegreeMagic, 1, y1 - y0, s.width, 0, rows.data());
+        for (int64_t y = y0; y < y1; ++y)
+            for (int64_t x = 0; x < s.width; ++x) map.at(0, y, x, 0) = rows[static_cast<size_t>((y - y0) * s.width + x)];
+    }
+    WriteOptions as_float;
+    as_float.half = false;
+    auto write = [&](const Sequence& image, const std::string& path) {
+        write_sequence(image, path, as_float);
+        run.outputs.push_back(path);
+        std::error_code ec;
+        run.bytes_written += static_cast<int64_t>(fs::file_size(path, ec));
+    };
+    const std::string degree_map = optional_text(run.plan, "degree_map"), preview = optional_text(run.plan, "preview");
+    if (!degree_map.empty()) write(map, degree_map);
+    if (!preview.empty()) write(*degree_preview(map, run.options.degree), preview);
+}
+
+// Writes every mask (and score) frame once and the degree map, its preview and the crop windows,
+// from the bands; the results are the detect filter's.
 void masks_task(Run& run, const JsonValue& task, int64_t index) {
     const Shape& s = run.context.source->shape();
     const auto frames = range(task, "frames", "task");
@@ -179,25 +277,18 @@ void masks_task(Run& run, const JsonValue& task, int64_t index) {
     }
     const auto [delta, noise_ratio] = read_tolerance(run);
 
-    const std::string output = member(run.plan, "output", "the plan").string();
+    const std::string output = member(run.plan, "output", "the plan").string(), score = optional_text(run.plan, "score");
     const std::string crops_path = member(run.plan, "crops", "the plan").string();
     const CropOptions co = crop_options(run.context.filter->params());
     CropPlan crops;
     crops.width = s.width, crops.height = s.height, crops.frame_count = s.frames, crops.options = co;
-    // The mask frames as the single-process detect writes its mask result: one channel "mask".
-    Sequence attributes(Shape{s.frames, 1, 1, 1});
-    attributes.channel_names()[0] = "mask";
-    attributes.frame_numbers() = run.context.source->attributes().frame_numbers();
-    std::unique_ptr<FrameSink> sink;
-    std::string staging;
-    if (!output.empty()) {
-        staging = staging_dir(run.plan, index);
-        std::error_code ec;
-        fs::remove_all(staging, ec);  // what a killed run of this task left
-        fs::create_directories(staging);
-        sink = run.context.open_sink(staging + "/" + fs::path(output).filename().string(), attributes);
-    }
+    // The frames as the single-process detect writes its mask and score results.
+    const Sequence& source = run.context.source->attributes();
+    std::unique_ptr<StagedFrames> masks, scores;
+    if (!output.empty()) masks = std::make_unique<StagedFrames>(run, index, output, "mask", false);
+    if (!score.empty()) scores = std::make_unique<StagedFrames>(run, index, score, "score", true);
     Sequence frame(Shape{1, s.height, s.width, 1});
+    std::vector<float> score_frame(scores ? static_cast<size_t>(s.pixels()) : 0);
     std::vector<char> rows;
     for (int64_t f = frames.first; f < frames.second; ++f) {
         run.context.progress.report(0.9 * static_cast<double>(f - frames.first) / static_cast<double>(frames.second - frames.first), "masks");
@@ -208,25 +299,18 @@ void masks_task(Run& run, const JsonValue& task, int64_t index) {
             run.bytes_read += static_cast<int64_t>(rows.size());
             for (int64_t y = y0; y < y1; ++y)
                 for (int64_t x = 0; x < s.width; ++x) frame.at(0, y, x, 0) = rows[static_cast<size_t>((y - y0) * s.width + x)] ? 1.0f : 0.0f;
+            if (scores)
+                read_rows(run, run.work.score(static_cast<int64_t>(k)), kScoreMagic, s.frames, y1 - y0, s.width, f,
+                          score_frame.data() + y0 * s.width);
         }
-        frame.frame_numbers() = {attributes.frame_numbers()[static_cast<size_t>(f)]};
+        frame.frame_numbers() = {source.frame_numbers()[static_cast<size_t>(f)]};
         for (FrameCrops& c : make_crop_plan(frame, co).frames) crops.frames.push_back(std::move(c));
-        if (sink) sink->write_frame(f, frame.data());
+        if (masks) masks->write(f, frame.data());
+        if (scores) scores->write(f, score_frame.data());
     }
-    if (sink) {
-        sink->commit();
-        sink.reset();
-        const FramePattern staged(staging + "/" + fs::path(output).filename().string()), final_pattern(output);
-        for (int64_t f = frames.first; f < frames.second; ++f) {
-            const int64_t number = attributes.frame_numbers()[static_cast<size_t>(f)];
-            std::error_code ec;
-            fs::rename(staged.format(number), final_pattern.format(number), ec);
-            if (ec) throw Error(Status::Io, "cannot rename into '" + final_pattern.format(number) + "': " + ec.message());
-            run.outputs.push_back(final_pattern.format(number));
-            run.bytes_written += static_cast<int64_t>(fs::file_size(final_pattern.format(number), ec));
-        }
-        fs::remove_all(staging);
-    }
+    if (masks) masks->finish();
+    if (scores) scores->finish();
+    if (wants_degree(run.plan)) write_degree_outputs(run, tiles);
     const std::string json = crop_plan_to_json(crops);
     if (!crops_path.empty()) {
         write_file(crops_path, json.data(), json.size());

@@ -6,6 +6,8 @@
 #include <sstream>
 
 #include "distributed/tile_files.hpp"
+#include "statfilter/error.hpp"
+#include "statfilter/frame_pattern.hpp"
 
 namespace statfilter {
 
@@ -16,12 +18,41 @@ namespace fs = std::filesystem;
 // The work directory's full path is hashed in, so plans whose work directories share a name do not
 // meet there (only the task that makes a staging directory reads it: the hash need not be stable).
 std::string staging_dir(const JsonValue& plan, int64_t task) {
-    const fs::path output(plan.find("output")->string());
+    return staging_dir(plan, task, plan.find("output")->string());
+}
+
+std::string staging_dir(const JsonValue& plan, int64_t task, const std::string& output_pattern) {
+    const fs::path output(output_pattern);
     const std::string& work = plan.find("work")->string();
     char hash[17];
     std::snprintf(hash, sizeof hash, "%016zx", std::hash<std::string>()(work));
     return (output.parent_path() / ("." + fs::path(work).filename().string() + "-" + hash + ".frames-" +
                                     std::to_string(task))).string();
+}
+
+std::string staged_pattern(const std::string& staging, const std::string& output_pattern) {
+    return staging + "/" + fs::path(output_pattern).filename().string();
+}
+
+void clear_staging(const std::string& staging) {
+    std::error_code ec;
+    fs::remove_all(staging, ec);
+    fs::create_directories(staging);
+}
+
+int64_t publish_staged(const std::string& staging, const std::string& output_pattern, const std::vector<int64_t>& numbers,
+                       std::vector<std::string>& outputs) {
+    const FramePattern staged(staged_pattern(staging, output_pattern)), final_pattern(output_pattern);
+    int64_t bytes = 0;
+    for (int64_t number : numbers) {
+        std::error_code ec;
+        fs::rename(staged.format(number), final_pattern.format(number), ec);
+        if (ec) throw Error(Status::Io, "cannot rename into '" + final_pattern.format(number) + "': " + ec.message());
+        outputs.push_back(final_pattern.format(number));
+        bytes += static_cast<int64_t>(fs::file_size(final_pattern.format(number), ec));
+    }
+    fs::remove_all(staging);
+    return bytes;
 }
 
 std::string write_task_report(const std::string& path, int64_t index, const std::string& phase, double seconds,

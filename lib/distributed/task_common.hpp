@@ -67,8 +67,24 @@ inline std::string results_json(const Results& r) {
     return s + "}";
 }
 
-// The task's frames are staged beside the plan's output pattern.
+// A string member that a plan may leave out (older plans): "" then.
+inline std::string optional_text(const JsonValue& object, const std::string& key) {
+    const JsonValue* v = object.find(key);
+    return v && v->is(JsonValue::Type::String) ? v->string() : std::string();
+}
+
+// The task's frames are staged beside the plan's output pattern (or beside another pattern the task
+// writes: a rename stays within its file system).
 std::string staging_dir(const JsonValue& plan, int64_t task);
+std::string staging_dir(const JsonValue& plan, int64_t task, const std::string& output_pattern);
+// Where a task writes the frames of output_pattern first: staging/<the pattern's file name>.
+std::string staged_pattern(const std::string& staging, const std::string& output_pattern);
+// Makes the staging directory, empty (what a killed run of the task left there is removed).
+void clear_staging(const std::string& staging);
+// Moves each staged frame into its final name, one rename each, then removes the staging directory;
+// appends the final names to outputs and returns the bytes moved.
+int64_t publish_staged(const std::string& staging, const std::string& output_pattern, const std::vector<int64_t>& numbers,
+                       std::vector<std::string>& outputs);
 
 // Writes the task's report (JSON) last, atomically, at path; returns its text.
 std::string write_task_report(const std::string& path, int64_t index, const std::string& phase, double seconds,

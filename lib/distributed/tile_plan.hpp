@@ -44,7 +44,8 @@ struct TaskContext {
     Filter* filter = nullptr;
     const FrameSource* source = nullptr;
     const FrameSource* noisy = nullptr;  // a detect plan's named input "noisy" (null without it)
-    std::function<std::unique_ptr<FrameSink>(const std::string& pattern, const Sequence& attributes)> open_sink;
+    // as_float: float samples whatever the plan's write options say (a detect plan's score and maps).
+    std::function<std::unique_ptr<FrameSink>(const std::string& pattern, const Sequence& attributes, bool as_float)> open_sink;
     std::vector<std::pair<std::string, std::string>> attributes;  // provenance for every frame written
     double budget_bytes = 0;  // 0: the plan's
     int threads = 0;          // 0: the plan's

@@ -146,24 +146,12 @@ void reconstruct_task(Run& run, const JsonValue& task) {
 
 // Frames of a sink in the staging directory moved into their final names, one rename each.
 void publish(Run& run, const std::string& staging, const Sequence& attributes) {
-    const FramePattern staged(staging + "/" + fs::path(run.plan.find("output")->string()).filename().string());
-    const FramePattern final_pattern(run.plan.find("output")->string());
-    for (int64_t number : attributes.frame_numbers()) {
-        std::error_code ec;
-        fs::rename(staged.format(number), final_pattern.format(number), ec);
-        if (ec) throw Error(Status::Io, "cannot rename into '" + final_pattern.format(number) + "': " + ec.message());
-        run.outputs.push_back(final_pattern.format(number));
-        run.bytes_written += static_cast<int64_t>(fs::file_size(final_pattern.format(number), ec));
-    }
-    fs::remove_all(staging);
+    run.bytes_written += publish_staged(staging, run.plan.find("output")->string(), attributes.frame_numbers(), run.outputs);
 }
 
 std::unique_ptr<FrameSink> staging_sink(Run& run, const std::string& staging, const Sequence& attributes) {
-    std::error_code ec;
-    fs::remove_all(staging, ec);  // what a killed run of this task left
-    fs::create_directories(staging);
-    const std::string pattern = staging + "/" + fs::path(run.plan.find("output")->string()).filename().string();
-    auto sink = run.context.open_sink(pattern, attributes);
+    clear_staging(staging);
+    auto sink = run.context.open_sink(staged_pattern(staging, run.plan.find("output")->string()), attributes, false);
     for (const auto& [name, value] : run.context.attributes) sink->set_attribute(name, value);
     return sink;
 }
@@ -233,7 +221,7 @@ void frames_task(Run& run, const JsonValue& task, int64_t index) {
 
 void shot_task(Run& run) {
     CountingSource counted(*run.context.source, run.pixels_read);
-    auto sink = run.context.open_sink(run.plan.find("output")->string(), counted.attributes());
+    auto sink = run.context.open_sink(run.plan.find("output")->string(), counted.attributes(), false);
     for (const auto& [name, value] : run.context.attributes) sink->set_attribute(name, value);
     run.context.filter->execute(counted, *sink, run_options(run));
     run.results = run.context.filter->results();

@@ -215,11 +215,20 @@ class sf_plan_options(Structure):
                 ("work_dir", c_char_p)]
 
 
+class sf_detect_outputs(Structure):
+    _fields_ = [("struct_size", c_size_t),
+                ("mask", c_char_p),
+                ("crops", c_char_p),
+                ("score", c_char_p),
+                ("degree_map", c_char_p),
+                ("preview", c_char_p)]
+
+
 STRUCTS = {cls.__name__: cls for cls in (sf_shape, sf_strides, sf_channel_stats, sf_comparison, sf_read_options,
                                          sf_write_options, sf_param_info, sf_filter_info, sf_plugin_run,
                                          sf_plugin)}
 STRUCTS.update({cls.__name__: cls for cls in (sf_crop_window, sf_merge_options, sf_run_options, sf_window,
-                                              sf_plan_options)})
+                                              sf_plan_options, sf_detect_outputs)})
 
 # ---- functions: name -> (restype, [argtypes]) -------------------------------------------------
 
@@ -291,10 +300,15 @@ FUNCTIONS = {
                                   _P(sf_run_options), _P(sf_plan_options), c_char_p]),
     "sf_plan_write_detect": (sf_status, [sf_filter, c_char_p, c_char_p, _P(sf_read_options), c_char_p, c_char_p,
                                          _P(sf_run_options), _P(sf_plan_options), c_char_p]),
+    "sf_detect_outputs_init": (None, [_P(sf_detect_outputs)]),
+    "sf_plan_write_detect_outputs": (sf_status, [sf_filter, c_char_p, c_char_p, _P(sf_read_options),
+                                                 _P(sf_detect_outputs), _P(sf_run_options), _P(sf_plan_options),
+                                                 c_char_p]),
     "sf_plan_task_count": (sf_status, [c_char_p, _P(c_int64)]),
     "sf_plan_run_task": (sf_status, [c_char_p, c_int64, _P(sf_run_options)]),
     # artifact detection, re-render list and merge
     "sf_filter_set_input": (sf_status, [sf_filter, c_char_p, sf_sequence]),
+    "sf_detect_degree_preview": (sf_status, [sf_sequence, c_int64, _P(sf_sequence)]),
     "sf_crops_windows": (sf_status, [c_char_p, _P(sf_crop_window), c_size_t, _P(c_size_t), _P(c_int64), _P(c_int64)]),
     "sf_merge_options_init": (None, [_P(sf_merge_options)]),
     "sf_merge": (sf_status, [sf_sequence, sf_sequence, _P(sf_merge_options), sf_sequence, _P(c_int64)]),

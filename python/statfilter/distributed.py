@@ -7,8 +7,9 @@ storage every worker shares. The output is the same as ``Filter(method, **params
 output)`` (docs/distributed.md says where it is bit-identical and the bound where not).
 
 ``detect(denoised, noisy, mask=..., crops=..., client=None, **params)`` does the same for artifact
-detection (sf_plan_write_detect): noise tasks per band, one tolerance task, detect tasks per band,
-one masks task; the mask frames and crops JSON are ``statfilter detect``'s. Without a client it runs
+detection (sf_plan_write_detect_outputs): noise tasks per band, one tolerance task, detect tasks per
+band, one masks task; the mask and score frames, crops JSON, degree map and its preview are
+``statfilter detect``'s. Without a client it runs
 the tasks here, one after another.
 
 Dask is an optional extra (``pip install statfilter[dask]``); importing this module works without it,
@@ -95,15 +96,22 @@ def write_plan(input: str, output: str, plan_path: str, method: Optional[str] = 
 def write_detect_plan(denoised: str, noisy: Optional[str], plan_path: str, mask: Optional[str] = None,
                       crops: Optional[str] = None, tiles: int = 0, tile_rows: int = 0, work_dir: Optional[str] = None,
                       memory: Union[int, str, None] = None, threads: int = 0, channels: Any = None,
-                      frames: Any = None, **params: Any) -> Dict[str, Any]:
-    """Write the detect plan (as ``statfilter plan detect`` does) and return it (the parsed JSON)."""
+                      frames: Any = None, score: Optional[str] = None, degree_map: Optional[str] = None,
+                      preview: Optional[str] = None, **params: Any) -> Dict[str, Any]:
+    """Write the detect plan (as ``statfilter plan detect`` does) and return it (the parsed JSON).
+    It writes any of mask (frame pattern), crops (JSON), score (frame pattern), degree_map and
+    preview (one image each), at least one."""
     with Filter("detect", **params) as flt:
         run, plan, work = _plan_options(memory, threads, tiles, tile_rows, work_dir)
         read, keep_read = _read_options(channels, frames)
-        status = _capi.lib.sf_plan_write_detect(
+        outputs = _capi.sf_detect_outputs()
+        _capi.lib.sf_detect_outputs_init(ctypes.byref(outputs))
+        paths = {"mask": mask, "crops": crops, "score": score, "degree_map": degree_map, "preview": preview}
+        for name, path in paths.items():
+            setattr(outputs, name, _capi.encode_path(path) if path else None)
+        status = _capi.lib.sf_plan_write_detect_outputs(
             flt._live(), _capi.encode_path(denoised), _capi.encode_path(noisy) if noisy else None, ctypes.byref(read),
-            _capi.encode_path(mask) if mask else None, _capi.encode_path(crops) if crops else None,
-            ctypes.byref(run), ctypes.byref(plan), _capi.encode_path(plan_path))
+            ctypes.byref(outputs), ctypes.byref(run), ctypes.byref(plan), _capi.encode_path(plan_path))
         check(status, flt._live())
         del keep_read, work
     with open(plan_path) as f:
@@ -233,10 +241,12 @@ def detect(denoised: str, noisy: Optional[str], mask: Optional[str] = None, crop
            client: Any = None, tiles: int = 0, tile_rows: int = 0, work_dir: Optional[str] = None,
            memory: Union[int, str, None] = None, threads: Optional[int] = None, channels: Any = None,
            frames: Any = None, retries: int = 3, progress: bool = True, keep_work: bool = False,
+           score: Optional[str] = None, degree_map: Optional[str] = None, preview: Optional[str] = None,
            **params: Any) -> Dict[str, Any]:
     """Detect the artifacts of the denoised EXR sequence `denoised` (made from the noisy render
     `noisy`; None = without it, as ``statfilter detect`` without --noisy) as a plan of tasks, writing
-    the mask frames to `mask` and the crop windows (JSON) to `crops` (at least one of the two).
+    the mask frames to `mask`, the crop windows (JSON) to `crops`, the estimated relMSE frames to
+    `score`, the degree map to `degree_map` and its false-colour picture to `preview` (at least one).
 
     client:    a dask.distributed Client: the noise tasks run in parallel, then the tolerance task,
                the detect tasks in parallel, then the masks task. None = every task here, in order
@@ -245,17 +255,19 @@ def detect(denoised: str, noisy: Optional[str], mask: Optional[str] = None, crop
                threshold, crop_padding, ...).
     tiles, tile_rows: the bands of rows (sf_plan_options; default 256 rows a band).
     work_dir:  where the plan and its work files go, on storage every worker sees (default: a hidden
-               directory beside the mask, or beside the crops without a mask; removed afterwards
+               directory beside the first output given, in the order above; removed afterwards
                unless keep_work).
     memory, threads: each task's budget and threads (threads default: 1 on a client, one task per
                worker thread; every core here).
     retries:   times Dask reruns a task whose worker died (tasks are idempotent).
     Returns the report as ``denoise`` does (kind "detect"); its results are the detect filter's
-    (flagged_fraction, window_count, delta, ...). The mask frames and crops JSON are those of
-    ``statfilter detect DENOISED --noisy NOISY --mask MASK --crops CROPS`` with the same parameters.
+    (flagged_fraction, window_count, delta, ...). Every output is that of ``statfilter detect
+    DENOISED --noisy NOISY --mask MASK --crops CROPS --score ... --degree-map ... --preview ...`` with
+    the same parameters.
     """
-    if not mask and not crops:
-        raise InvalidArgumentError("detect writes the mask (mask=...), the crop windows (crops=...) or both: give one")
+    outputs = [mask, crops, score, degree_map, preview]
+    if not any(outputs):
+        raise InvalidArgumentError("detect writes the mask, crops, score, degree_map or preview: give one")
     as_completed = None
     if client is not None:
         try:
@@ -264,7 +276,7 @@ def detect(denoised: str, noisy: Optional[str], mask: Optional[str] = None, crop
             raise ImportError("statfilter.distributed needs Dask: pip install statfilter[dask]") from exc
     if threads is None:
         threads = 1 if client is not None else 0
-    out_dir = os.path.dirname(os.path.abspath(mask if mask else crops))
+    out_dir = os.path.dirname(os.path.abspath(next(path for path in outputs if path)))
     os.makedirs(out_dir, exist_ok=True)
     plan_dir = tempfile.mkdtemp(prefix=".statfilter-plan-", dir=work_dir or out_dir)
     plan_path = os.path.join(plan_dir, "plan.json")
@@ -272,7 +284,8 @@ def detect(denoised: str, noisy: Optional[str], mask: Optional[str] = None, crop
     try:
         plan = write_detect_plan(denoised, noisy, plan_path, mask=mask, crops=crops, tiles=tiles, tile_rows=tile_rows,
                                  work_dir=os.path.join(plan_dir, "work"), memory=memory, threads=threads,
-                                 channels=channels, frames=frames, **params)
+                                 channels=channels, frames=frames, score=score, degree_map=degree_map,
+                                 preview=preview, **params)
     except BaseException:
         shutil.rmtree(plan_dir, ignore_errors=True)  # nothing was written but the empty plan directory
         raise

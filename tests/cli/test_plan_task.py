@@ -134,31 +134,52 @@ def _mask_bytes(path):
 
 
 @pytest.mark.parametrize("cut", [["--tiles", "3"], ["--tile-rows", "7"], ["--tiles", "1"]], ids=" ".join)
-def test_detect_plan_and_tasks_give_the_detect_mask_and_crops(sample_noisy, tmp_path, cut):
+def test_detect_plan_and_tasks_give_the_detect_outputs(sample_noisy, tmp_path, cut):
     den = tmp_path / "den.####.exr"
     run("denoise", sample_noisy, den, "--method", "pca", "--firefly-z", "0", "--quiet")
-    run("detect", den, "--noisy", sample_noisy, "--mask", tmp_path / "single" / "m.####.exr",
-        "--crops", tmp_path / "single.json", "--quiet")
+
+    def outputs(where):
+        return ["--mask", tmp_path / where / "m.####.exr", "--crops", tmp_path / (where + ".json"),
+                "--score", tmp_path / where / "s.####.exr", "--degree-map", tmp_path / where / "degree.exr",
+                "--preview", tmp_path / where / "degree.png"]
+
+    run("detect", den, "--noisy", sample_noisy, *outputs("single"), "--quiet")
     plan = tmp_path / "detect.plan.json"
-    proc = run("plan", "detect", den, "--noisy", sample_noisy, "--mask", tmp_path / "farm" / "m.####.exr",
-               "--crops", tmp_path / "farm.json", *cut, "-o", plan, "--quiet")
+    proc = run("plan", "detect", den, "--noisy", sample_noisy, *outputs("farm"), *cut, "-o", plan, "--quiet")
     tasks = json.loads(plan.read_text())
     assert tasks["kind"] == "detect" and int(proc.stdout) == len(tasks["tasks"])
-    assert not (tmp_path / "farm.json").exists()
+    assert not (tmp_path / "farm.json").exists() and not list((tmp_path / "farm").iterdir())  # the plan writes nothing
     shell_run(plan)
     assert (tmp_path / "farm.json").read_bytes() == (tmp_path / "single.json").read_bytes()
-    single = sorted((tmp_path / "single").glob("m.*.exr"))
-    assert len(single) == 32
+    single = sorted((tmp_path / "single").glob("*.exr"))
+    assert len(single) == 32 + 32 + 1  # mask and score frames, the degree map
     for p in single:
         assert _mask_bytes(tmp_path / "farm" / p.name) == _mask_bytes(p), p.name
+    assert (tmp_path / "farm" / "degree.png").read_bytes() == (tmp_path / "single" / "degree.png").read_bytes()
     assert not [p for p in (tmp_path / "farm").iterdir() if p.name.startswith(".")]
+
+
+def test_detect_plan_of_the_degree_map_alone(sample_noisy, tmp_path):
+    """A plan that writes only the maps: no mask or score frames, no staging left, the same map."""
+    den = tmp_path / "den.####.exr"
+    run("denoise", sample_noisy, den, "--method", "pca", "--firefly-z", "0", "--quiet")
+    run("detect", den, "--noisy", sample_noisy, "--degree-map", tmp_path / "single.exr", "--quiet")
+    plan = tmp_path / "p.json"
+    run("plan", "detect", den, "--noisy", sample_noisy, "--degree-map", tmp_path / "maps" / "farm.exr",
+        "--tiles", "2", "-o", plan, "--quiet")
+    shell_run(plan)
+    assert sorted(p.name for p in (tmp_path / "maps").iterdir()) == ["farm.exr"]
+    assert _mask_bytes(tmp_path / "maps" / "farm.exr") == _mask_bytes(tmp_path / "single.exr")
 
 
 def test_detect_plan_usage_errors(sample_noisy, tmp_path):
     assert "plan detect DENOISED" in run("plan", "--help").stdout
     assert "--crops" in run("plan", "detect", "--help").stdout
     err = run("plan", "detect", sample_noisy, "-o", tmp_path / "p.json", check_rc=2).stderr
-    assert "--mask" in err and "Traceback" not in err
+    assert "--mask" in err and "--degree-map" in err and "Traceback" not in err
+    err = run("plan", "detect", sample_noisy, "--noisy", sample_noisy, "--score", tmp_path / "s.####.exr",
+              "--mask", tmp_path / "s.####.exr", "-o", tmp_path / "p.json", check_rc=None)
+    assert err.returncode != 0 and "both" in err.stderr and not (tmp_path / "p.json").exists()
     err = run("plan", "detect", sample_noisy, "--noisy", sample_noisy, "--crops", tmp_path / "c.json",
               "--degree", "40", "-o", tmp_path / "p.json", check_rc=None)
     assert err.returncode != 0 and "degree" in err.stderr and not (tmp_path / "p.json").exists()

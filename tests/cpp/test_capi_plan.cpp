@@ -238,6 +238,28 @@ TEST(DetectPlan, TasksAndDependenciesThenTheSingleRunMaskAndCrops) {
     EXPECT_EQ(samples_of(farm_mask.get()), samples_of(single_mask.get()));
     EXPECT_EQ(read_text(crops), std::string(single_crops));
     EXPECT_TRUE(fs::exists(dir.file("detect.plan.json.work/task-7.json")));
+
+    // The score frames and the degree map through sf_plan_write_detect_outputs: the filter's results.
+    sf_detect_outputs outputs;
+    sf_detect_outputs_init(&outputs);
+    const std::string score = dir.file("score/s.####.exr"), degree = dir.file("maps/degree.exr"),
+                      preview = dir.file("maps/degree.png"), plan2 = dir.file("maps.plan.json");
+    outputs.score = score.c_str();
+    outputs.degree_map = degree.c_str();
+    outputs.preview = preview.c_str();
+    ASSERT_SF_OK(sf_plan_write_detect_outputs(filter.get(), shot.denoised.c_str(), shot.noisy.c_str(), nullptr, &outputs,
+                                              nullptr, &po, plan2.c_str()));
+    ASSERT_SF_OK(sf_plan_task_count(plan2.c_str(), &count));
+    for (int64_t t = 0; t < count; ++t) ASSERT_SF_OK(sf_plan_run_task(plan2.c_str(), t, nullptr));
+    for (const auto& [name, path] : {std::pair<const char*, std::string>{"score", score}, {"degree_map", degree}}) {
+        sf_sequence result = nullptr;
+        ASSERT_SF_OK(sf_filter_result_sequence(single.get(), name, &result));
+        Seq expected(result), written = read_sequence(path);
+        EXPECT_EQ(frame_numbers(written.get()), frame_numbers(expected.get())) << name;
+        EXPECT_EQ(channel_name(written.get(), 0), channel_name(expected.get(), 0)) << name;
+        EXPECT_EQ(samples_of(written.get()), samples_of(expected.get())) << name;
+    }
+    EXPECT_TRUE(fs::exists(preview));
 }
 
 TEST(DetectPlan, BadArgumentsAreRefusedBeforeAnythingIsWritten) {
@@ -282,6 +304,24 @@ TEST(DetectPlan, BadArgumentsAreRefusedBeforeAnythingIsWritten) {
     EXPECT_FALSE(fs::exists(plan));
     EXPECT_FALSE(fs::exists(crops));
     EXPECT_FALSE(fs::exists(dir.file("m.0001.exr")));
+
+    // sf_plan_write_detect_outputs: its struct is required, one output at least, no output twice or an input.
+    expect_failure(sf_plan_write_detect_outputs(filter.get(), den, noisy, nullptr, nullptr, nullptr, nullptr, plan.c_str()),
+                   SF_ERROR_INVALID_ARGUMENT, {"outputs"});
+    sf_detect_outputs outputs;
+    sf_detect_outputs_init(&outputs);
+    EXPECT_EQ(outputs.struct_size, sizeof outputs);
+    expect_failure(sf_plan_write_detect_outputs(filter.get(), den, noisy, nullptr, &outputs, nullptr, nullptr, plan.c_str()),
+                   SF_ERROR_INVALID_ARGUMENT, {"mask, crops, score, degree_map or preview"});
+    outputs.mask = mask.c_str();
+    outputs.score = mask.c_str();
+    expect_failure(sf_plan_write_detect_outputs(filter.get(), den, noisy, nullptr, &outputs, nullptr, nullptr, plan.c_str()),
+                   SF_ERROR_INVALID_ARGUMENT, {"mask and score outputs are both", mask});
+    outputs.score = nullptr;
+    outputs.degree_map = den;
+    expect_failure(sf_plan_write_detect_outputs(filter.get(), den, noisy, nullptr, &outputs, nullptr, nullptr, plan.c_str()),
+                   SF_ERROR_INVALID_ARGUMENT, {"degree_map output", "is an input"});
+    EXPECT_FALSE(fs::exists(plan));
 
     // A valid plan, its tasks out of order: each says which file of an earlier phase is missing.
     EXPECT_SF_OK(sf_filter_set_string(filter.get(), "degree", "8"));

@@ -180,3 +180,57 @@ TEST(DetectCapi, DegreeAboveFramesMinusOneFailsWithTheReason) {
         << sf_filter_last_error(f);
     sf_filter_release(f);
 }
+
+namespace {
+
+TEST(DetectCapi, DegreePreviewColoursEachDegreeAndMarksTheUnexplained) {
+    // One row: degrees 0, 4, 8 of a highest degree of 8, then 9 (no degree explains the pixel), NaN.
+    const sf_shape shape{1, 1, 5, 1};
+    std::vector<float> map = {0.0f, 4.0f, 8.0f, 9.0f, std::nanf("")};
+    Owned wrapped, rgb;
+    ASSERT_EQ(sf_sequence_wrap(map.data(), shape, strides_of(shape), &wrapped.h), SF_OK) << sf_last_error();
+    ASSERT_EQ(sf_detect_degree_preview(wrapped.h, 8, &rgb.h), SF_OK) << sf_last_error();
+    sf_shape out{};
+    ASSERT_EQ(sf_sequence_shape(rgb.h, &out), SF_OK);
+    EXPECT_EQ(out.frames, 1);
+    EXPECT_EQ(out.height, 1);
+    EXPECT_EQ(out.width, 5);
+    ASSERT_EQ(out.channels, 3);
+    float* data = nullptr;
+    sf_strides st{};
+    ASSERT_EQ(sf_sequence_data(rgb.h, &data, &st), SF_OK);
+    auto at = [&](int64_t x, int c) { return *reinterpret_cast<const float*>(reinterpret_cast<const char*>(data) + x * st.pixel + c * st.channel); };
+    // Degree 0: dark blue; the highest degree: yellow; half way between; unexplained: red.
+    EXPECT_FLOAT_EQ(at(0, 0), 0.0f);
+    EXPECT_FLOAT_EQ(at(0, 1), 0.15f);
+    EXPECT_FLOAT_EQ(at(0, 2), 0.55f);
+    EXPECT_FLOAT_EQ(at(1, 0), 0.4f);
+    EXPECT_FLOAT_EQ(at(1, 1), 0.575f);
+    EXPECT_FLOAT_EQ(at(1, 2), 0.3f);
+    EXPECT_FLOAT_EQ(at(2, 0), 1.0f);
+    EXPECT_FLOAT_EQ(at(2, 1), 1.0f);
+    EXPECT_FLOAT_EQ(at(2, 2), 0.05f);
+    for (int64_t x : {3, 4}) {  // above the highest degree, and a NaN: no degree explains it
+        EXPECT_FLOAT_EQ(at(x, 0), 0.9f) << x;
+        EXPECT_FLOAT_EQ(at(x, 1), 0.1f) << x;
+        EXPECT_FLOAT_EQ(at(x, 2), 0.1f) << x;
+    }
+    const char* name = nullptr;
+    ASSERT_EQ(sf_sequence_channel_name(rgb.h, 2, &name), SF_OK);
+    EXPECT_STREQ(name, "B");
+}
+
+TEST(DetectCapi, DegreePreviewRefusesWhatIsNotADegreeMap) {
+    const sf_shape shape{2, 2, 2, 1};
+    std::vector<float> two_frames(8, 1.0f);
+    Owned wrapped;
+    ASSERT_EQ(sf_sequence_wrap(two_frames.data(), shape, strides_of(shape), &wrapped.h), SF_OK);
+    sf_sequence out = reinterpret_cast<sf_sequence>(&wrapped);  // must be reset to NULL on failure
+    EXPECT_EQ(sf_detect_degree_preview(wrapped.h, 8, &out), SF_ERROR_INVALID_ARGUMENT);
+    EXPECT_NE(std::string(sf_last_error()).find("one frame of one channel"), std::string::npos) << sf_last_error();
+    EXPECT_EQ(out, nullptr);
+    EXPECT_EQ(sf_detect_degree_preview(nullptr, 8, &out), SF_ERROR_INVALID_ARGUMENT);
+    EXPECT_EQ(sf_detect_degree_preview(wrapped.h, 8, nullptr), SF_ERROR_INVALID_ARGUMENT);
+}
+
+}  // namespace

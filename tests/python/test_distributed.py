@@ -155,7 +155,8 @@ def sample_detect(tmp_path_factory):
     den = d / "den" / "d.####.exr"
     statfilter.Filter("pca", firefly_z=0).run_files(str(SAMPLE), str(den))
     subprocess.run([tool, "detect", str(den), "--noisy", str(SAMPLE), "--mask", str(d / "single" / "m.####.exr"),
-                    "--crops", str(d / "single.json"), "--quiet"], check=True, timeout=300)
+                    "--crops", str(d / "single.json"), "--degree-map", str(d / "single" / "degree.exr"),
+                    "--preview", str(d / "single" / "degree.png"), "--quiet"], check=True, timeout=300)
     return d, den
 
 
@@ -187,9 +188,12 @@ def test_detect_on_two_workers_gives_statfilter_detects_mask_and_crops(sample_de
 def test_detect_without_a_client_runs_here(sample_detect, capsys):
     d, den = sample_detect
     out = d / "here"
-    report = sd.detect(str(den), str(SAMPLE), mask=str(out / "m.####.exr"), crops=str(d / "here.json"), tiles=2)
+    report = sd.detect(str(den), str(SAMPLE), mask=str(out / "m.####.exr"), crops=str(d / "here.json"), tiles=2,
+                       degree_map=str(out / "degree.exr"), preview=str(out / "degree.png"))
     assert report["workers"] == 1 and report["tasks"] == 2 + 1 + 2 + 1
     assert_same_as_single(d, out, d / "here.json")
+    assert mask_bytes(out / "degree.exr") == mask_bytes(d / "single" / "degree.exr")
+    assert (out / "degree.png").read_bytes() == (d / "single" / "degree.png").read_bytes()
     assert "statfilter: 6/6 tasks (masks)" in capsys.readouterr().err
     assert not [p for p in d.iterdir() if p.name.startswith(".statfilter-plan-")]
 
@@ -198,7 +202,7 @@ def test_detect_usage_errors(tmp_path):
     missing = str(tmp_path / "nowhere" / "d.####.exr")
     with pytest.raises(statfilter.NotFoundError, match="no files match '%s'" % re.escape(missing)):
         sd.detect(missing, str(SAMPLE), crops=str(tmp_path / "c.json"), progress=False)
-    with pytest.raises(statfilter.InvalidArgumentError, match="mask=.*crops="):
+    with pytest.raises(statfilter.InvalidArgumentError, match="mask, crops, score, degree_map or preview"):
         sd.detect(str(SAMPLE), str(SAMPLE))
     with pytest.raises(statfilter.InvalidArgumentError, match="degree"):
         sd.detect(str(SAMPLE), str(SAMPLE), crops=str(tmp_path / "c.json"), degree=40, progress=False)

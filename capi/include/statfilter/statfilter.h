@@ -350,6 +350,30 @@ SF_API sf_status sf_plan_write_detect(sf_filter filter, const char* denoised_pat
                                       const sf_read_options* read, const char* mask_pattern, const char* crops_path,
                                       const sf_run_options* run, const sf_plan_options* plan, const char* plan_path);
 
+/* What a detect plan writes (sf_plan_write_detect_outputs): each NULL or "" = not written, at least
+ * one given. Fields are only ever added at the end: set struct_size with sf_detect_outputs_init. */
+typedef struct sf_detect_outputs {
+    size_t struct_size;      /* sizeof(sf_detect_outputs), set by sf_detect_outputs_init */
+    const char* mask;        /* the mask frames' pattern: half float, one channel "mask" */
+    const char* crops;       /* the crop windows' JSON file */
+    const char* score;       /* the estimated relMSE of each pixel-frame: a float EXR per frame, channel "score" */
+    const char* degree_map;  /* the degree map: one float image, channel "degree" (the highest degree + 1
+                                where no degree explains the pixel) */
+    const char* preview;     /* the degree map as a picture (sf_detect_degree_preview), e.g. a PNG */
+} sf_detect_outputs;
+
+SF_API void sf_detect_outputs_init(sf_detect_outputs* outputs);
+
+/* sf_plan_write_detect with any of the outputs `statfilter detect` writes: the mask and score
+ * frames, the crop windows, the degree map and its preview, each written once by the "masks" task
+ * from the bands' rows and bit-identical to the detect filter's results written with
+ * sf_sequence_write (float for the score and the maps). Each output is checked before the plan is
+ * written (pattern, format, directory; none may be an input). */
+SF_API sf_status sf_plan_write_detect_outputs(sf_filter filter, const char* denoised_pattern, const char* noisy_pattern,
+                                              const sf_read_options* read, const sf_detect_outputs* outputs,
+                                              const sf_run_options* run, const sf_plan_options* plan,
+                                              const char* plan_path);
+
 /* The number of tasks in a plan file. */
 SF_API sf_status sf_plan_task_count(const char* plan_path, int64_t* count);
 
@@ -401,6 +425,12 @@ SF_API sf_status sf_filter_info_get(const char* name, sf_filter_info* info);
  * pixel-frame) and "degree_map" (1 x H x W x 1, the polynomial degree each pixel needed), the text
  * "crops" (the crop windows as JSON, see docs/methods.md) and counts such as "flagged_fraction". */
 SF_API sf_status sf_filter_set_input(sf_filter filter, const char* name, sf_sequence sequence);
+
+/* The "detect" filter's "degree_map" result (1 x H x W x 1) as a picture for people, given the
+ * filter's "degree" parameter: degree 0 dark blue through yellow at the highest degree, pixels that no
+ * degree explains in red. *preview receives a new 1 x H x W x 3 sequence (channels R, G, B) for
+ * sf_sequence_write (a PNG path converts it to 8 bits); release it with sf_sequence_release. */
+SF_API sf_status sf_detect_degree_preview(sf_sequence degree_map, int64_t degree, sf_sequence* preview);
 
 /* One crop window of a crop-window JSON document: a pixel rectangle of one frame, row 0 at the top. */
 typedef struct sf_crop_window {
