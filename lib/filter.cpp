@@ -1,6 +1,7 @@
 #include "statfilter/filter.hpp"
 
 #include "filters/frame_stages.hpp"
+#include "pipeline/library_threads.hpp"
 #include "pipeline/parallel.hpp"
 #include "pipeline/stage.hpp"
 #include "pipeline/trusted_prefilter.hpp"
@@ -28,6 +29,7 @@ void Filter::execute(const Sequence& input, Sequence& output, const Progress& pr
         throw Error(Status::InvalidArgument, "output shape (" + to_string(output.shape()) +
                                                  ") differs from input shape (" + to_string(input.shape()) + ")");
     results_.clear();
+    const LibraryThreads pools(resolve_threads(0));
     // Filters with prefilter/postfilter parameters (the temporal ones) run between those stages.
     const bool pre = has_frame_stage(params_, "prefilter"), post = has_frame_stage(params_, "postfilter");
     const double pre_span = pre ? 0.4 : 0.0, post_span = post ? 0.2 : 0.0;

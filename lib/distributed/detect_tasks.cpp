@@ -9,6 +9,7 @@
 #include "distributed/tile_files.hpp"
 #include "filters/detect_filter.hpp"
 #include "pipeline/memory_budget.hpp"
+#include "pipeline/library_threads.hpp"
 #include "pipeline/parallel.hpp"
 #include "statfilter/degree_preview.hpp"
 #include "statfilter/error.hpp"
@@ -349,6 +350,7 @@ std::string run_detect_task(const JsonValue& plan, int64_t index, const TaskCont
     fs::create_directories(run.work.dir);
     const int threads = resolve_threads(context.threads > 0 ? context.threads : static_cast<int>(integer(plan, "threads", "the plan")));
     const ThreadLimit limit(threads);
+    const LibraryThreads pools(threads);
     run.options = detect_options(context.filter->params(), context.noisy != nullptr);
     const Shape& s = context.source->shape();
     check_detect_options(s, context.noisy ? &context.noisy->shape() : nullptr, run.options);

@@ -14,6 +14,7 @@
 #include "distributed/tile_plan.hpp"
 #include "pipeline/low_rank_stage.hpp"
 #include "pipeline/memory_budget.hpp"
+#include "pipeline/library_threads.hpp"
 #include "pipeline/parallel.hpp"
 #include "pipeline/scheduler.hpp"
 #include "pipeline/stage.hpp"
@@ -245,6 +246,7 @@ std::string run_plan_task(const JsonValue& plan, int64_t index, const TaskContex
     fs::create_directories(run.work.dir);
     const int threads = resolve_threads(context.threads > 0 ? context.threads : static_cast<int>(integer(plan, "threads", "the plan")));
     const ThreadLimit limit(threads);
+    const LibraryThreads pools(threads);
     const double plan_budget = member(plan, "memory", "the plan").number();
     run.stage.threads = threads;
     run.stage.budget_bytes = context.budget_bytes > 0 ? context.budget_bytes

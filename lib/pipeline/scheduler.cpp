@@ -8,6 +8,7 @@
 #include "filters/frame_stages.hpp"
 #include "pipeline/frame_stage_pool.hpp"
 #include "pipeline/memory_budget.hpp"
+#include "pipeline/library_threads.hpp"
 #include "pipeline/parallel.hpp"
 #include "pipeline/scratch_frames.hpp"
 #include "pipeline/stage.hpp"
@@ -40,6 +41,7 @@ void Filter::execute(const FrameSource& source, FrameSink& sink, const RunOption
     const Shape& s = source.shape();
     const int threads = resolve_threads(options.threads);
     const ThreadLimit limit(threads);
+    const LibraryThreads pools(threads);
     const double budget = options.budget_bytes > 0 ? options.budget_bytes : static_cast<double>(default_memory_budget());
     const double frame_bytes = static_cast<double>(s.pixels()) * s.channels * sizeof(float);
     const bool pre = has_frame_stage(params_, "prefilter"), post = has_frame_stage(params_, "postfilter");

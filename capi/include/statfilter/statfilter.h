@@ -277,7 +277,8 @@ typedef struct sf_run_options {
     size_t struct_size;            /* sizeof(sf_run_options), set by sf_run_options_init */
     int64_t memory;                /* bytes the run may hold (see sf_memory_size_parse); 0 = the default,
                                       half of physical memory */
-    int threads;                   /* 0 = every core */
+    int threads;                   /* 0 = every core; the libraries' own pools (OpenEXR's coders,
+                                      OpenBLAS) are held to at most it while the run runs */
     int overwrite;                 /* 1: the output may replace frames of the input (they are replaced
                                       only once every new frame is written); 0 (default): refused */
     sf_progress_callback progress; /* the whole run: reading, every pass, writing */
