@@ -145,16 +145,16 @@ void write_detect_plan(sf_filter filter, const char* denoised_pattern, const cha
         throw Error(Status::InvalidArgument, "a detect plan writes the mask, crops, score, degree_map or preview: give one");
     request.denoised = absolute(require_string(denoised_pattern, "denoised_pattern"));
     request.noisy = noisy_pattern && *noisy_pattern ? absolute(noisy_pattern) : std::string();
-    for (size_t i = 0; i < outputs.size(); ++i)
-        for (size_t j = 0; j < outputs.size(); ++j) {
-            const std::string& a = outputs[i].second;
-            if (a.empty()) continue;
-            if (a == request.denoised || a == request.noisy)
-                throw Error(Status::InvalidArgument, std::string("the ") + outputs[i].first + " output '" + a + "' is an input");
-            if (j > i && a == outputs[j].second)
+    for (size_t i = 0; i < outputs.size(); ++i) {
+        const std::string& a = outputs[i].second;
+        if (a.empty()) continue;
+        if (a == request.denoised || a == request.noisy)
+            throw Error(Status::InvalidArgument, std::string("the ") + outputs[i].first + " output '" + a + "' is an input");
+        for (size_t j = i + 1; j < outputs.size(); ++j)
+            if (a == outputs[j].second)
                 throw Error(Status::InvalidArgument, std::string("the ") + outputs[i].first + " and " + outputs[j].first +
                                                          " outputs are both '" + a + "'");
-        }
+    }
     const std::string path = require_string(plan_path, "plan_path");
     handle.filter->check();
     ReadOptions ro = read_options_from(&ro_c);

@@ -157,13 +157,16 @@ void write_rows(Run& run, const std::string& path, const char* magic, const Sequ
     run.outputs.push_back(path);
 }
 
-// Rows [y0, y1) of frame f of a band's image result file, checked against the band's shape.
-void read_rows(Run& run, const std::string& path, const char* magic, int64_t frames, int64_t rows, int64_t width,
-               int64_t f, float* dst) {
+// A band's image result file checked against the band's shape (once, before its frames are read).
+void check_rows(const std::string& path, const char* magic, int64_t frames, int64_t rows, int64_t width) {
     check_magic(path, magic);
     int64_t h[3];
     read_file_at(path, 8, h, sizeof h);
     if (h[0] != frames || h[1] != rows || h[2] != width) throw Error(Status::Io, "'" + path + "' does not match the plan's band");
+}
+
+// Frame f's rows (rows x width floats) of a checked band's image result file.
+void read_rows(Run& run, const std::string& path, int64_t rows, int64_t width, int64_t f, float* dst) {
     const size_t bytes = static_cast<size_t>(rows * width) * sizeof(float);
     read_file_at(path, kRowsHeader + f * static_cast<int64_t>(bytes), dst, bytes);
     run.bytes_read += static_cast<int64_t>(bytes);
@@ -238,7 +241,9 @@ void write_degree_outputs(Run& run, const std::vector<std::pair<int64_t, int64_t
     for (size_t k = 0; k < tiles.size(); ++k) {
         const auto [y0, y1] = tiles[k];
         rows.resize(static_cast<size_t>((y1 - y0) * s.width));
-        read_rows(run, run.work.degree(static_cast<int64_t>(k)), kDegreeMagic, 1, y1 - y0, s.width, 0, rows.data());
+        const std::string path = run.work.degree(static_cast<int64_t>(k));
+        check_rows(path, kDegreeMagic, 1, y1 - y0, s.width);
+        read_rows(run, path, y1 - y0, s.width, 0, rows.data());
         for (int64_t y = y0; y < y1; ++y)
             for (int64_t x = 0; x < s.width; ++x) map.at(0, y, x, 0) = rows[static_cast<size_t>((y - y0) * s.width + x)];
     }
@@ -275,6 +280,8 @@ void masks_task(Run& run, const JsonValue& task, int64_t index) {
         if (h[0] != s.frames || h[1] != tiles[k].second - tiles[k].first || h[2] != s.width)
             throw Error(Status::Io, "'" + path + "' does not match the plan's band " + std::to_string(k));
         flagged += h[3], unexplained += h[4], degree_sum += h[5], explained += h[6];
+        if (!optional_text(run.plan, "score").empty())
+            check_rows(run.work.score(static_cast<int64_t>(k)), kScoreMagic, s.frames, tiles[k].second - tiles[k].first, s.width);
     }
     const auto [delta, noise_ratio] = read_tolerance(run);
 
@@ -301,8 +308,7 @@ void masks_task(Run& run, const JsonValue& task, int64_t index) {
             for (int64_t y = y0; y < y1; ++y)
                 for (int64_t x = 0; x < s.width; ++x) frame.at(0, y, x, 0) = rows[static_cast<size_t>((y - y0) * s.width + x)] ? 1.0f : 0.0f;
             if (scores)
-                read_rows(run, run.work.score(static_cast<int64_t>(k)), kScoreMagic, s.frames, y1 - y0, s.width, f,
-                          score_frame.data() + y0 * s.width);
+                read_rows(run, run.work.score(static_cast<int64_t>(k)), y1 - y0, s.width, f, score_frame.data() + y0 * s.width);
         }
         frame.frame_numbers() = {source.frame_numbers()[static_cast<size_t>(f)]};
         for (FrameCrops& c : make_crop_plan(frame, co).frames) crops.frames.push_back(std::move(c));
