@@ -40,7 +40,8 @@ def configs(statfilter, scene):
     if (aux / "albedo.0001.exr").exists() and (aux / "normal.0001.exr").exists():
         out.append(("OIDN + albedo/normal guides", "oidn",
                     {"albedo": str(aux / "albedo.####.exr"), "normal": str(aux / "normal.####.exr")}))
-    out += [("OIDN then " + m, m, {"prefilter": "oidn"}) for m in TEMPORAL if m in have]
+    # OIDN first, then the temporal filter (the hybrid's own default is the other order).
+    out += [("OIDN then " + m, m, {"prefilter": "oidn", "prefilter_order": "first"}) for m in TEMPORAL if m in have]
     out += [(m + " (no OIDN)", m, {}) for m in TEMPORAL if m in have]
     return out
 

@@ -28,11 +28,17 @@ void Filter::execute(const Sequence& input, Sequence& output, const Progress& pr
     if (input.shape() != output.shape())
         throw Error(Status::InvalidArgument, "output shape (" + to_string(output.shape()) +
                                                  ") differs from input shape (" + to_string(input.shape()) + ")");
+    check_prefilter_order(params_);
     results_.clear();
     const LibraryThreads pools(resolve_threads(0));
     // Filters with prefilter/postfilter parameters (the temporal ones) run between those stages.
-    const bool pre = has_frame_stage(params_, "prefilter"), post = has_frame_stage(params_, "postfilter");
-    const double pre_span = pre ? 0.4 : 0.0, post_span = post ? 0.2 : 0.0;
+    // prefilter_order=last: the temporal filter works on the noisy frames and the prefilter runs again
+    // on its result, in place of the postfilter.
+    const bool pre = has_frame_stage(params_, "prefilter"), post = runs_postfilter(params_);
+    const bool last = prefilter_runs_last(params_);
+    // Run last without the trust blend, the prefilter's frames of the noisy shot are not needed.
+    const bool prefilter_first = pre && (!last || trusts_time_by_tile(params_));
+    const double pre_span = prefilter_first ? 0.4 : 0.0, post_span = (post || last) ? 0.2 : 0.0;
     std::unique_ptr<Sequence> prefiltered, filtered;
     const Sequence* source = &input;
     // nonfinite=repair is the pipeline's policy, not only the temporal filter's: a prefilter (OIDN
@@ -48,7 +54,7 @@ void Filter::execute(const Sequence& input, Sequence& output, const Progress& pr
     }
     const Sequence* noisy = source;
     std::unique_ptr<TimeTrust> trust;
-    if (pre) {  // the stage's execute gives it input's attributes
+    if (prefilter_first) {  // the stage's execute gives it input's attributes
         prefiltered = std::make_unique<Sequence>(input.shape());
         if (trusts_time_by_tile(params_)) {  // frame by frame, each probed once more
             trust = std::make_unique<TimeTrust>(input.shape(), time_trust_options(params_));
@@ -59,7 +65,7 @@ void Filter::execute(const Sequence& input, Sequence& output, const Progress& pr
             run_frame_stage("prefilter", params_, *source, *prefiltered, slice(progress, 0, pre_span), results_);
         }
         if (keeps_prefilter_light(params_)) keep_prefilter_light(*noisy, *prefiltered, resolve_threads(0));
-        source = prefiltered.get();
+        if (!last) source = prefiltered.get();
     }
     Sequence* target = &output;
     if (post) {
@@ -67,6 +73,11 @@ void Filter::execute(const Sequence& input, Sequence& output, const Progress& pr
         target = filtered.get();
     }
     run(*source, *target, slice(progress, pre_span, 1 - pre_span - post_span));
+    if (last) {  // the prefilter on the temporal result (which keeps the noisy shot's light)
+        FrameStagePool pool("prefilter", params_);
+        filter_frames(pool, *target, *noisy, resolve_threads(0), {progress, 1 - post_span, post_span, "prefilter"});
+        pool.add_results(results_);
+    }
     if (trust) results_.set("prefilter_trust.share", blend_toward_prefilter(*trust, *noisy, *prefiltered, *target, resolve_threads(0)));
     if (post) run_frame_stage("postfilter", params_, *filtered, output, slice(progress, 1 - post_span, post_span), results_);
     if (&input != &output) output.copy_attributes_from(input);

@@ -13,11 +13,11 @@
 //                still, frames aligned along the flow where things move. On camera
 //                motion it lowered relMSE ~35% against the error threshold method, on local motion
 //                5-10%, at ~2.5x its time (docs/methods.md, "Motion compensation").
-//   high     - Intel Open Image Denoise (its `fast` quality: after a temporal pass it is as accurate
-//              as `high` at half the time) on every frame first when its plugin can run here, then
-//              global PCA (still) or the error threshold method on its output, without the postfilter
-//              (after OIDN it changes nothing); without OIDN, the hybrid at its default (more accurate)
-//              flow wherever something moves, with the albedo/normal passes when given.
+//   high     - the hybrid at its default (more accurate) flow, or global PCA on a still scene, then
+//              Intel Open Image Denoise on its result when its plugin can run here, blended back towards
+//              OIDN on the noisy frames where they do not support the temporal change (prefilter_order
+//              last: OIDN then sees frames already averaged over time); without OIDN, the hybrid
+//              wherever something moves, with the albedo/normal passes when given.
 // A postfilter the user names on this filter replaces the preset's (Filter::execute runs it), and
 // `transform` other than `preset` replaces the preset's transform.
 // It says what it picked and why (results "method" and "reason").
@@ -52,8 +52,6 @@ struct Choice {
     std::vector<std::pair<std::string, std::string>> params;  // set on the method
 };
 
-constexpr const char* kOidnPrefilterParams = "quality=fast";
-
 // quality balanced or high, once alpha has measured the share of moving pixels.
 Choice choose(const std::string& quality, double moving, bool still, bool passes, bool oidn,
               const std::string& oidn_note) {
@@ -62,10 +60,12 @@ Choice choose(const std::string& quality, double moving, bool still, bool passes
     const std::string prefix = "quality " + quality + ": " + share + " of pixels move";
     Choice c;
     if (quality == "high" && oidn) {
+        // The temporal filter on the noisy frames, then OIDN on its result, blended back towards OIDN
+        // on the noisy frames where they do not support the change (prefilter_order=last).
         c.prefilter = "oidn";
-        c.method = still ? "pca" : "error-threshold";
-        c.reason = prefix + "; OIDN first, then " +
-                   (still ? "global PCA (a still scene)" : "per-pixel ranks keep the motion");
+        c.method = still ? "pca" : "hybrid";
+        c.reason = prefix + (still ? ": global PCA (a still scene)" : ": the hybrid, frames aligned along the flow where things move") +
+                   ", then OIDN on its result, kept where the noisy frames support it";
     } else if (quality == "high" && !still) {
         c.method = "hybrid";
         c.refine = true;  // the hybrid's own default
@@ -197,6 +197,7 @@ public:
                 c.description = "preset: the quality's (fast: none, else log); or as the temporal filters: " +
                                 c.description;
             }
+            if (c.name == "prefilter_order") c.default_value = kHybridPrefilterOrder;  // the hybrid's, which it runs
             p.push_back(c);
         }
         return p;
@@ -214,8 +215,9 @@ public:
             const ParamSet hybrid = hybrid_params();
             if (!hybrid_streams(hybrid, names_guide_passes(*this, params()))) return nullptr;
             // A prefilter the user names runs here, before the preset's stage (Filter::execute).
-            HybridStageOptions options = hybrid_stage_options(hybrid, has_frame_stage(params(), "prefilter"));
-            options.refine_after = params().get_string("postfilter").empty();  // else Filter::execute runs the user's
+            HybridStageOptions options = hybrid_stage_options(hybrid, temporal_sees_prefilter(params()));
+            // else Filter::execute runs the user's postfilter, or the prefilter in its place
+            options.refine_after = params().get_string("postfilter").empty() && !prefilter_runs_last(params());
             return std::make_unique<MotionPresetStage>(std::move(options), quality, resolved_transform(),
                                                        params().get_float("still_fraction"));
         }
@@ -297,8 +299,8 @@ protected:
                             want_oidn && problem.empty(), oidn_note);
         }
         auto chosen = create_filter(choice.method);
-        for (const char* name : {"transform", "nonfinite", "shared_basis", "memory_mb", "prefilter_trust", "prefilter_trust_tile",
-                                 "prefilter_trust_pool", "prefilter_trust_probe", "keep_mean"})
+        for (const char* name : {"transform", "nonfinite", "shared_basis", "memory_mb", "prefilter_trust", "prefilter_order",
+                                 "prefilter_trust_tile", "prefilter_trust_pool", "prefilter_trust_probe", "keep_mean"})
             chosen->params().set_string(name, resolved.get_string(name));
         if (choice.method == "hybrid")
             for (const auto& spec : motion_params())
@@ -310,10 +312,7 @@ protected:
             chosen->set_input("albedo", choice.passes ? guides.albedo : nullptr);
             chosen->set_input("normal", choice.passes ? guides.normal : nullptr);
         }
-        if (!choice.prefilter.empty()) {
-            chosen->params().set_string("prefilter", choice.prefilter);
-            chosen->params().set_string("prefilter_params", kOidnPrefilterParams);
-        }
+        if (!choice.prefilter.empty()) chosen->params().set_string("prefilter", choice.prefilter);
         // The postfilter: the preset's, unless the user named one on this filter, which
         // Filter::execute runs after this one instead.
         const bool refine = choice.refine && params().get_string("postfilter").empty();
@@ -324,7 +323,10 @@ protected:
             progress.report(start + (1 - start) * f, stage);
             return true;
         }));
-        std::string picked = choice.prefilter.empty() ? choice.method : choice.prefilter + " then " + choice.method;
+        std::string picked = choice.method;
+        if (!choice.prefilter.empty())
+            picked = prefilter_runs_last(chosen->params()) ? choice.method + " then " + choice.prefilter
+                                                           : choice.prefilter + " then " + choice.method;
         if (refine) picked += std::string(" then ") + kRefinePostfilter;
         mutable_results().set("method", picked);
         mutable_results().set("reason", choice.reason);

@@ -27,7 +27,11 @@ std::vector<ParamSpec> prefilter_params() {
                                "the trust blend's fit is pooled over frames t - this .. t + this");
     ParamSpec probe = float_param("prefilter_trust_probe", "0.05", 0.001, 1,
                                   "the step of the trust blend's second prefilter run, in units of the tile's noise");
-    return {name, list, trust, tile, pool, probe};
+    ParamSpec order = choice_param("prefilter_order", "first", {"first", "last"},
+                                   "first: the temporal filter works on the prefilter's frames; last: it works on the noisy "
+                                   "frames and the prefilter runs on its result in place of the postfilter (the prefilter's "
+                                   "frames of the noisy shot are then only what the trust blend falls back to)");
+    return {name, list, trust, order, tile, pool, probe};
 }
 
 TimeTrustOptions time_trust_options(const ParamSet& params) {
@@ -54,6 +58,28 @@ double frame_stage_bytes(const Shape& s) {
 
 bool has_frame_stage(const ParamSet& params, const std::string& stage) {
     return params.has(stage) && !params.get_string(stage).empty();
+}
+
+bool prefilter_runs_last(const ParamSet& params) {
+    return has_frame_stage(params, "prefilter") && params.has("prefilter_order") &&
+           params.get_string("prefilter_order") == "last";
+}
+
+bool temporal_sees_prefilter(const ParamSet& params) {
+    return has_frame_stage(params, "prefilter") && !prefilter_runs_last(params);
+}
+
+bool runs_postfilter(const ParamSet& params) {
+    return has_frame_stage(params, "postfilter") && !prefilter_runs_last(params);
+}
+
+void check_prefilter_order(const ParamSet& params) {
+    if (!prefilter_runs_last(params) || !has_frame_stage(params, "postfilter")) return;
+    for (const auto& spec : params.specs())
+        if (spec.name == "postfilter" && spec.default_value == params.get_string("postfilter")) return;
+    throw Error(Status::InvalidArgument, "postfilter '" + params.get_string("postfilter") +
+                                             "' does not run with prefilter_order=last: the prefilter runs on the temporal "
+                                             "result in its place (prefilter_order=first runs both)");
 }
 
 bool keeps_prefilter_light(const ParamSet& params) {

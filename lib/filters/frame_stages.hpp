@@ -24,6 +24,15 @@ namespace statfilter {
 inline constexpr const char* kRefinePostfilter = "diffusion";
 inline constexpr const char* kRefinePostfilterParams = "iterations=3,k=3";
 
+// The hybrid's (and so the presets') order of a prefilter: last. The motion-compensated hybrid aligns
+// and averages the noisy frames, and a single-frame denoiser then sees a shot of several times its
+// sample count: against running it first, relMSE 0.57-0.75x OIDN's instead of 0.73-0.85x at 4 spp
+// and 0.75-0.90x instead of 0.83-0.92x at 16 on every scene (docs/methods.md, "Prefilter first or
+// last"). The study's filters keep first: global PCA and the error threshold on noisy frames ghost
+// under a camera pan, which the trust blend cannot take back (camera_pan 16 spp: 1.01x OIDN's against
+// 0.89x).
+inline constexpr const char* kHybridPrefilterOrder = "last";
+
 // prefilter (a filter name, "" = none) and prefilter_params ("name=value,name=value").
 std::vector<ParamSpec> prefilter_params();
 // postfilter and postfilter_params, with the given defaults.
@@ -51,6 +60,19 @@ double frame_stage_bytes(const Shape& shape);
 
 // True when parameter `stage` exists and names a filter.
 bool has_frame_stage(const ParamSet& params, const std::string& stage);
+// True when the prefilter runs after the temporal filter (prefilter_order=last): the temporal filter
+// works on the noisy frames, the prefilter runs on its result in place of the postfilter, and the
+// prefilter's frames of the noisy shot are what the trust blend falls back to. A single-frame denoiser
+// given frames a temporal pass has already averaged sees a higher sample count, and leaves less of
+// its own error (docs/methods.md, "Trusting time after a prefilter").
+bool prefilter_runs_last(const ParamSet& params);
+// True when the temporal filter works on a prefilter's frames (a prefilter, run first).
+bool temporal_sees_prefilter(const ParamSet& params);
+// True when the postfilter runs: named, and not replaced by a prefilter run last.
+bool runs_postfilter(const ParamSet& params);
+// Throws when a postfilter other than the filter's default is named with a prefilter run last: it
+// would not run.
+void check_prefilter_order(const ParamSet& params);
 // True when a prefilter runs and the temporal result is to be blended back towards it tile by tile
 // where the noisy frames do not support it (prefilter_trust; statfilter/time_trust.hpp).
 bool trusts_time_by_tile(const ParamSet& params);

@@ -84,6 +84,7 @@ public:
             // is part of the hybrid by default (postfilter= turns it off).
             if (c.name == "postfilter") c.default_value = kRefinePostfilter;
             if (c.name == "postfilter_params") c.default_value = kRefinePostfilterParams;
+            if (c.name == "prefilter_order") c.default_value = kHybridPrefilterOrder;
             p.push_back(c);
         }
         return p;
@@ -93,7 +94,7 @@ public:
     // (filters/hybrid_stage.hpp); otherwise it holds the shot.
     std::unique_ptr<StreamStage> stream_stage() const override {
         if (!hybrid_streams(params(), names_guide_passes(*this, params()))) return nullptr;
-        return std::make_unique<HybridStage>(hybrid_stage_options(params(), has_frame_stage(params(), "prefilter")));
+        return std::make_unique<HybridStage>(hybrid_stage_options(params(), temporal_sees_prefilter(params())));
     }
     // In memory, besides input and output: the first pass, the average's transformed samples and
     // guide, and the input with its fireflies replaced.

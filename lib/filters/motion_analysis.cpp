@@ -115,7 +115,7 @@ std::shared_ptr<Sequence> moving_weight(const Sequence& input, const Sequence& a
         for (int64_t x = 0; x < s.width; ++x) weight->at(0, y, x, 0) = 1.0f - alpha.at(0, y, x, 0);
     const double z = params.get_float("change_z");
     if (z > 0) {
-        auto test = temporal_change_test(input, temporal_change_options(params, has_frame_stage(params, "prefilter")));
+        auto test = temporal_change_test(input, temporal_change_options(params, temporal_sees_prefilter(params)));
         const auto change = test->map();
         if (crossings) *crossings = crossing_weight(*change, alpha);
         combine_max(*weight, *change);

@@ -34,6 +34,7 @@ void Filter::set_provenance(FrameSink& sink) const {
 void Filter::check() const {
     for (const char* stage : {"prefilter", "postfilter"})
         if (has_frame_stage(params_, stage)) make_frame_stage(stage, params_);
+    check_prefilter_order(params_);
 }
 
 void Filter::execute(const FrameSource& source, FrameSink& sink, const RunOptions& options) {
@@ -44,7 +45,11 @@ void Filter::execute(const FrameSource& source, FrameSink& sink, const RunOption
     const LibraryThreads pools(threads);
     const double budget = options.budget_bytes > 0 ? options.budget_bytes : static_cast<double>(default_memory_budget());
     const double frame_bytes = static_cast<double>(s.pixels()) * s.channels * sizeof(float);
-    const bool pre = has_frame_stage(params_, "prefilter"), post = has_frame_stage(params_, "postfilter");
+    // prefilter_order=last: the stage works on the noisy frames and the prefilter runs again on each
+    // frame it hands on, in place of the postfilter; without the trust blend it runs only then.
+    const bool pre = has_frame_stage(params_, "prefilter"), post = runs_postfilter(params_);
+    const bool last = prefilter_runs_last(params_);
+    const bool prefilter_first = pre && (!last || trusts_time_by_tile(params_));
     std::unique_ptr<FrameStagePool> prefilter, postfilter;
     results_.clear();
     const Progress& progress = options.progress;
@@ -72,8 +77,9 @@ void Filter::execute(const FrameSource& source, FrameSink& sink, const RunOption
         std::unique_ptr<TimeTrust> trust;
         double start = 0;
         const auto samples = static_cast<size_t>(s.pixels() * s.channels);
-        if (pre) {
-            // The temporal passes read bands of every prefiltered frame twice: park them on disk.
+        if (prefilter_first) {
+            // The temporal passes read bands of every prefiltered frame twice: park them on disk (run
+            // last, the trust blend reads them back).
             start = 0.3;
             scratch = std::make_unique<ScratchFrames>(s, source.attributes());
             if (trusting) trust = std::make_unique<TimeTrust>(s, time_trust_options(params_));
@@ -92,7 +98,7 @@ void Filter::execute(const FrameSource& source, FrameSink& sink, const RunOption
                 scratch->write_frame(f, frame.data());
             }, {progress, 0.0, start, "prefilter"});
             if (keeps_prefilter_light(params_)) scratch->set_gain(light_gain(noisy_light, filtered_light));
-            input = scratch.get();
+            if (!last) input = scratch.get();
         }
         // With the trust blend the temporal frames wait on disk until every frame's fit is known.
         std::unique_ptr<ScratchFrames> temporal;
@@ -108,6 +114,7 @@ void Filter::execute(const FrameSource& source, FrameSink& sink, const RunOption
         // What a preset picked is known before its first frame is handed on: the frames say so.
         std::once_flag provenance;
         stage->run(*input, [&](int64_t f, float* pixels) {
+            if (last) prefilter->apply(f, pixels, s, source.attributes());
             if (trust) {
                 std::vector<float> noisy(samples), prefiltered(samples);
                 source.read_rows(f, 0, s.height, noisy.data());

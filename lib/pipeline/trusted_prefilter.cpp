@@ -21,6 +21,17 @@ void prefilter_and_probe(FrameStagePool& prefilter, const Sequence& noisy, Seque
     }, progress);
 }
 
+void filter_frames(FrameStagePool& filter, Sequence& frames, const Sequence& attributes, int threads,
+                   const ProgressSpan& progress) {
+    const Shape& s = frames.shape();
+    parallel_for(s.frames, threads, [&](int64_t f) {
+        std::vector<float> x(static_cast<size_t>(s.pixels() * s.channels));
+        frames.get_frame(f, x.data());
+        filter.apply(f, x.data(), s, attributes);
+        frames.set_frame(f, x.data());
+    }, progress);
+}
+
 std::vector<double> channel_sums(const float* frame, const Shape& shape) {
     std::vector<double> sums(static_cast<size_t>(shape.channels), 0.0);
     for (int64_t p = 0; p < shape.pixels(); ++p)

@@ -13,6 +13,10 @@ namespace statfilter {
 // prefiltered = the prefilter on every frame of noisy; trust measures each frame's Stein correction.
 void prefilter_and_probe(FrameStagePool& prefilter, const Sequence& noisy, Sequence& prefiltered, TimeTrust& trust,
                          int threads, const ProgressSpan& progress);
+// The single-frame filter on every frame of frames, in place (a prefilter run last); attributes: the
+// shot's frame numbers and channel names.
+void filter_frames(FrameStagePool& filter, Sequence& frames, const Sequence& attributes, int threads,
+                   const ProgressSpan& progress);
 // Every frame of result (the temporal filter's output on prefiltered) blended back towards
 // prefiltered where noisy does not support the change; returns the mean share kept.
 // A single-frame denoiser does not keep the light (OIDN brightens 4-spp frames by ~0.9%); the noisy

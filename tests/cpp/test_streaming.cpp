@@ -110,6 +110,7 @@ const std::vector<std::pair<std::string, std::vector<std::pair<std::string, std:
     {"pca", {{"rank", "2"}, {"shared_basis", "0"}}},
     {"pca", {{"rank", "2"}, {"postfilter", "diffusion"}, {"postfilter_params", "iterations=3,k=3"}}},
     {"pca", {{"rank", "2"}, {"prefilter", "diffusion"}, {"prefilter_params", "iterations=2"}}},
+    {"pca", {{"rank", "2"}, {"prefilter", "diffusion"}, {"prefilter_params", "iterations=2"}, {"prefilter_order", "last"}}},
     {"auto", {{"quality", "fast"}}},
     {"error-threshold", {}},
     {"error-threshold", {{"postfilter", "diffusion"}, {"postfilter_params", "iterations=3,k=3"}}},

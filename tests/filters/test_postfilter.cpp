@@ -77,6 +77,38 @@ TEST(Postfilter, TheHybridHasItByDefaultAndCanDropIt) {
     EXPECT_LT(mse(*hybrid.output, *clean), mse(*raw.output, *clean));
 }
 
+// prefilter_order=last: the temporal filter on the noisy frames, then the prefilter on its result in
+// place of the postfilter (without the trust blend, exactly the two filters one after the other).
+TEST(Postfilter, APrefilterRunLastIsTheSingleFrameFilterOnTheTemporalOutput) {
+    std::unique_ptr<Sequence> clean;
+    const auto seq = smooth_scene(&clean, 0.2);
+    const std::map<std::string, std::string> last = {
+        {"prefilter", "diffusion"}, {"prefilter_params", "iterations=2"}, {"prefilter_order", "last"}, {"prefilter_trust", "0"}};
+    const FilterRun pca_last = run_filter("pca", *seq, last);
+    const FilterRun pca = run_filter("pca", *seq);
+    const FilterRun after = run_filter("diffusion", *pca.output, {{"iterations", "2"}});
+    EXPECT_EQ(max_abs_diff(*pca_last.output, *after.output), 0.0);
+    // Run first instead, the temporal filter sees the prefiltered frames: another result.
+    auto first = last;
+    first["prefilter_order"] = "first";
+    EXPECT_GT(max_abs_diff(*run_filter("pca", *seq, first).output, *after.output), 1e-4);
+    // The hybrid runs its prefilter last by default, in place of its light diffusion pass.
+    auto hybrid_params = last;
+    hybrid_params.erase("prefilter_order");
+    const FilterRun hybrid = run_filter("hybrid", *seq, hybrid_params);
+    const FilterRun raw = run_filter("hybrid", *seq, {{"postfilter", ""}});
+    EXPECT_EQ(max_abs_diff(*hybrid.output, *run_filter("diffusion", *raw.output, {{"iterations", "2"}}).output), 0.0);
+    // With the trust blend (the default) each tile keeps a share of the change from the prefiltered
+    // noisy frames: well below their error, where the temporal result is right.
+    auto trusted = last;
+    trusted.erase("prefilter_trust");
+    const FilterRun blended = run_filter("pca", *seq, trusted);
+    const double alone = mse(*run_filter("diffusion", *seq, {{"iterations", "2"}}).output, *clean);
+    EXPECT_LT(mse(*blended.output, *clean), 0.5 * alone);
+    EXPECT_GE(blended.result("prefilter_trust.share"), 0.0);
+    EXPECT_LE(blended.result("prefilter_trust.share"), 1.0);
+}
+
 TEST(Postfilter, BadStagesAreNamed) {
     std::unique_ptr<Sequence> clean;
     const auto seq = smooth_scene(&clean, 0.2);
@@ -94,4 +126,8 @@ TEST(Postfilter, BadStagesAreNamed) {
     fails({{"postfilter", "diffusion"}, {"postfilter_params", "iterations=-1"}}, Status::InvalidArgument,
           "postfilter_params");
     fails({{"postfilter", "diffusion"}, {"postfilter_params", "gain=2"}}, Status::NotFound, "postfilter_params");
+    // A postfilter the user names would not run after a prefilter run last: refused, not dropped.
+    fails({{"postfilter", "diffusion"}, {"prefilter", "diffusion"}, {"prefilter_order", "last"}}, Status::InvalidArgument,
+          "prefilter_order=last");
+    fails({{"prefilter_order", "middle"}}, Status::InvalidArgument, "prefilter_order");
 }
