@@ -41,6 +41,7 @@ PRESETS = {
         "change_z_grow": (["0", "3", "4"], "3"),
     }),
     "high": (["--quality", "high"], {
+        "prefilter_order": (["first", "last"], "last"),
         "prefilter_trust_tile": (["8", "16", "32"], "16"),
         "prefilter_trust_pool": (["1", "2", "4"], "2"),
         "prefilter_trust_probe": (["0.02", "0.05", "0.2"], "0.05"),
