@@ -28,23 +28,24 @@ void Filter::execute(const Sequence& input, Sequence& output, const Progress& pr
     if (input.shape() != output.shape())
         throw Error(Status::InvalidArgument, "output shape (" + to_string(output.shape()) +
                                                  ") differs from input shape (" + to_string(input.shape()) + ")");
-    check_prefilter_order(params_);
+    const ParamSet stages = frame_stage_params();  // the pools below hold a reference to it
+    check_prefilter_order(stages);
     results_.clear();
     const LibraryThreads pools(resolve_threads(0));
     // Filters with prefilter/postfilter parameters (the temporal ones) run between those stages.
     // prefilter_order=last: the temporal filter works on the noisy frames and the prefilter runs again
     // on its result, in place of the postfilter.
-    const bool pre = has_frame_stage(params_, "prefilter"), post = runs_postfilter(params_);
-    const bool last = prefilter_runs_last(params_);
+    const bool pre = has_frame_stage(stages, "prefilter"), post = runs_postfilter(stages);
+    const bool last = prefilter_runs_last(stages);
     // Run last without the trust blend, the prefilter's frames of the noisy shot are not needed.
-    const bool prefilter_first = pre && (!last || trusts_time_by_tile(params_));
+    const bool prefilter_first = pre && (!last || trusts_time_by_tile(stages));
     const double pre_span = prefilter_first ? 0.4 : 0.0, post_span = (post || last) ? 0.2 : 0.0;
     std::unique_ptr<Sequence> prefiltered, filtered;
     const Sequence* source = &input;
     // nonfinite=repair is the pipeline's policy, not only the temporal filter's: a prefilter (OIDN
     // refuses NaN) gets the samples repaired the same way (each series' finite mean) first.
     std::unique_ptr<Sequence> repaired;
-    if (pre && params_.has("nonfinite") && params_.get_string("nonfinite") == "repair" &&
+    if (pre && stages.has("nonfinite") && stages.get_string("nonfinite") == "repair" &&
         check_nonfinite(input, NonFinitePolicy::Repair) > 0) {
         repaired = std::make_unique<Sequence>(input.shape());
         repaired->copy_samples_from(input);
@@ -56,15 +57,15 @@ void Filter::execute(const Sequence& input, Sequence& output, const Progress& pr
     std::unique_ptr<TimeTrust> trust;
     if (prefilter_first) {  // the stage's execute gives it input's attributes
         prefiltered = std::make_unique<Sequence>(input.shape());
-        if (trusts_time_by_tile(params_)) {  // frame by frame, each probed once more
-            trust = std::make_unique<TimeTrust>(input.shape(), time_trust_options(params_));
-            FrameStagePool pool("prefilter", params_);
+        if (trusts_time_by_tile(stages)) {  // frame by frame, each probed once more
+            trust = std::make_unique<TimeTrust>(input.shape(), time_trust_options(stages));
+            FrameStagePool pool("prefilter", stages);
             prefilter_and_probe(pool, *source, *prefiltered, *trust, resolve_threads(0), {progress, 0, pre_span, "prefilter"});
             pool.add_results(results_);
         } else {
-            run_frame_stage("prefilter", params_, *source, *prefiltered, slice(progress, 0, pre_span), results_);
+            run_frame_stage("prefilter", stages, *source, *prefiltered, slice(progress, 0, pre_span), results_);
         }
-        if (keeps_prefilter_light(params_)) keep_prefilter_light(*noisy, *prefiltered, resolve_threads(0));
+        if (keeps_prefilter_light(stages)) keep_prefilter_light(*noisy, *prefiltered, resolve_threads(0));
         if (!last) source = prefiltered.get();
     }
     Sequence* target = &output;
@@ -74,12 +75,12 @@ void Filter::execute(const Sequence& input, Sequence& output, const Progress& pr
     }
     run(*source, *target, slice(progress, pre_span, 1 - pre_span - post_span));
     if (last) {  // the prefilter on the temporal result (which keeps the noisy shot's light)
-        FrameStagePool pool("prefilter", params_);
+        FrameStagePool pool("prefilter", stages);
         filter_frames(pool, *target, *noisy, resolve_threads(0), {progress, 1 - post_span, post_span, "prefilter"});
         pool.add_results(results_);
     }
     if (trust) results_.set("prefilter_trust.share", blend_toward_prefilter(*trust, *noisy, *prefiltered, *target, resolve_threads(0)));
-    if (post) run_frame_stage("postfilter", params_, *filtered, output, slice(progress, 1 - post_span, post_span), results_);
+    if (post) run_frame_stage("postfilter", stages, *filtered, output, slice(progress, 1 - post_span, post_span), results_);
     if (&input != &output) output.copy_attributes_from(input);
 }
 

@@ -30,8 +30,8 @@ std::string make_plan(const Filter& filter, const FrameSource& source, const Pla
     if (request.tiles > 0 && request.tile_rows > 0)
         throw Error(Status::InvalidArgument, "give the number of tiles or the rows per tile, not both");
     const int64_t per_task = request.frames_per_task > 0 ? request.frames_per_task : 8;
-    const ParamSet& params = filter.params();
-    const bool pre = has_frame_stage(params, "prefilter"), post = has_frame_stage(params, "postfilter");
+    const ParamSet stages = filter.frame_stage_params();  // with what a preset runs around its stage
+    const bool pre = has_frame_stage(stages, "prefilter"), post = runs_postfilter(stages);
     const auto stage = filter.stream_stage();
     const auto* low_rank = stage ? dynamic_cast<const LowRankStage*>(&stage->core()) : nullptr;
 

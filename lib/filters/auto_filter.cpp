@@ -123,12 +123,14 @@ private:
     std::string transform_;
 };
 
-// balanced (and high without OIDN) streamed: the hybrid's stage decides still or moving once, from
-// one analysis, and the preset's choice and reason are reported from what it found.
+// balanced and high streamed: the hybrid's stage decides still or moving once, from one analysis, and
+// the preset's choice and reason are reported from what it found.
 class MotionPresetStage final : public StreamStage {
 public:
-    MotionPresetStage(HybridStageOptions options, std::string quality, std::string transform, double still_fraction)
-        : refine_(options.refine_after), stage_(std::move(options)), quality_(std::move(quality)),
+    // oidn: the pipeline runs OIDN around the stage (quality high; Filter::frame_stage_params).
+    MotionPresetStage(HybridStageOptions options, std::string quality, std::string transform, double still_fraction,
+                      bool oidn)
+        : refine_(options.refine_after), oidn_(oidn), stage_(std::move(options)), quality_(std::move(quality)),
           transform_(std::move(transform)), still_fraction_(still_fraction) {}
     Footprint footprint() const override { return stage_.footprint(); }
     double min_bytes(const Shape& shape, int threads) const override { return stage_.min_bytes(shape, threads); }
@@ -142,9 +144,10 @@ public:
         const auto report = [&] {
             const double moving = own.get_float("motion_fraction");
             still = moving < still_fraction_;
-            const Choice choice = choose(quality_, moving, still, false, false, "");
+            const Choice choice = choose(quality_, moving, still, false, oidn_, "");
             std::string picked = choice.method;
             if (refine_) picked += std::string(" then ") + kRefinePostfilter;
+            if (oidn_) picked += " then oidn";
             results.set("motion_fraction", moving);
             results.set("method", picked);
             results.set("reason", choice.reason);
@@ -167,7 +170,7 @@ public:
     }
 
 private:
-    bool refine_;
+    bool refine_, oidn_;
     HybridStage stage_;
     std::string quality_, transform_;
     double still_fraction_;
@@ -203,23 +206,22 @@ public:
         return p;
     }
 
-    // quality fast needs no analysis: it is global PCA, which streams. balanced, and high where OIDN
-    // cannot run, are the hybrid's stage (it measures the motion in its statistics passes), which
-    // streams unless renderer passes are to be read alongside; high with OIDN holds the shot
-    // (docs/architecture.md, "What streams").
+    // quality fast needs no analysis: it is global PCA, which streams. balanced and high are the
+    // hybrid's stage (it measures the motion in its statistics passes), which streams unless renderer
+    // passes are to be read alongside; high's OIDN runs around it frame by frame, as a prefilter run
+    // last (frame_stage_params; docs/architecture.md, "What streams").
     std::unique_ptr<StreamStage> stream_stage() const override {
         const std::string quality = params().get_string("quality");
         if (quality != "fast") {
-            const bool want_oidn = quality == "high" && params().get_string("prefilter").empty();
-            if (want_oidn && oidn_problem().empty()) return nullptr;
             const ParamSet hybrid = hybrid_params();
             if (!hybrid_streams(hybrid, names_guide_passes(*this, params()))) return nullptr;
-            // A prefilter the user names runs here, before the preset's stage (Filter::execute).
-            HybridStageOptions options = hybrid_stage_options(hybrid, temporal_sees_prefilter(params()));
+            // A prefilter the user names, or high's OIDN, runs around the preset's stage (Filter::execute).
+            const ParamSet stages = frame_stage_params();
+            HybridStageOptions options = hybrid_stage_options(hybrid, temporal_sees_prefilter(stages));
             // else Filter::execute runs the user's postfilter, or the prefilter in its place
-            options.refine_after = params().get_string("postfilter").empty() && !prefilter_runs_last(params());
+            options.refine_after = params().get_string("postfilter").empty() && !prefilter_runs_last(stages);
             return std::make_unique<MotionPresetStage>(std::move(options), quality, resolved_transform(),
-                                                       params().get_float("still_fraction"));
+                                                       params().get_float("still_fraction"), picks_oidn());
         }
         ParamSet pca = create_filter("pca")->params();
         for (const char* name : {"nonfinite", "shared_basis", "memory_mb"}) pca.set_string(name, params().get_string(name));
@@ -227,12 +229,26 @@ public:
         return std::make_unique<AnnotatedStage>(std::make_unique<LowRankStage>(low_rank_options(pca, false)), fast_choice(),
                                                 fast_transform());
     }
+    // quality high where OIDN can run and the preset streams: OIDN as a prefilter (at its defaults, run
+    // last), which Filter::execute and the scheduler run around the stage frame by frame.
+    ParamSet frame_stage_params() const override {
+        ParamSet p = params();
+        if (picks_oidn()) p.set_string("prefilter", "oidn");
+        return p;
+    }
     Footprint footprint() const override {
         auto stage = stream_stage();
         return stage ? stage->footprint() : Footprint{};
     }
 
 private:
+    // quality high, no prefilter of the user's, OIDN can run here, and the preset's stage streams
+    // (with renderer passes to read alongside, run() picks OIDN itself on the shot in memory).
+    bool picks_oidn() const {
+        return params().get_string("quality") == "high" && params().get_string("prefilter").empty() &&
+               oidn_problem().empty() && hybrid_streams(hybrid_params(), names_guide_passes(*this, params()));
+    }
+
     // The preset's transform: fast's, or log, unless the user named one.
     std::string resolved_transform() const {
         const std::string& t = params().get_string("transform");

@@ -32,9 +32,10 @@ void Filter::set_provenance(FrameSink& sink) const {
 }
 
 void Filter::check() const {
+    const ParamSet stages = frame_stage_params();
     for (const char* stage : {"prefilter", "postfilter"})
-        if (has_frame_stage(params_, stage)) make_frame_stage(stage, params_);
-    check_prefilter_order(params_);
+        if (has_frame_stage(stages, stage)) make_frame_stage(stage, stages);
+    check_prefilter_order(stages);
 }
 
 void Filter::execute(const FrameSource& source, FrameSink& sink, const RunOptions& options) {
@@ -45,26 +46,27 @@ void Filter::execute(const FrameSource& source, FrameSink& sink, const RunOption
     const LibraryThreads pools(threads);
     const double budget = options.budget_bytes > 0 ? options.budget_bytes : static_cast<double>(default_memory_budget());
     const double frame_bytes = static_cast<double>(s.pixels()) * s.channels * sizeof(float);
+    const ParamSet stages = frame_stage_params();  // the pools below hold a reference to it
     // prefilter_order=last: the stage works on the noisy frames and the prefilter runs again on each
     // frame it hands on, in place of the postfilter; without the trust blend it runs only then.
-    const bool pre = has_frame_stage(params_, "prefilter"), post = runs_postfilter(params_);
-    const bool last = prefilter_runs_last(params_);
-    const bool prefilter_first = pre && (!last || trusts_time_by_tile(params_));
+    const bool pre = has_frame_stage(stages, "prefilter"), post = runs_postfilter(stages);
+    const bool last = prefilter_runs_last(stages);
+    const bool prefilter_first = pre && (!last || trusts_time_by_tile(stages));
     std::unique_ptr<FrameStagePool> prefilter, postfilter;
     results_.clear();
     const Progress& progress = options.progress;
 
     double needed = 0;
     // A prefilter on samples to repair needs each series' mean first: such a run holds the shot.
-    const bool repair_first = pre && params_.has("nonfinite") && params_.get_string("nonfinite") == "repair";
+    const bool repair_first = pre && stages.has("nonfinite") && stages.get_string("nonfinite") == "repair";
     const auto stage = repair_first ? nullptr : stream_stage();
     const bool streamed = stage != nullptr;
     if (stage) {
-        if (pre) prefilter = std::make_unique<FrameStagePool>("prefilter", params_);
-        if (post) postfilter = std::make_unique<FrameStagePool>("postfilter", params_);
+        if (pre) prefilter = std::make_unique<FrameStagePool>("prefilter", stages);
+        if (post) postfilter = std::make_unique<FrameStagePool>("postfilter", stages);
         // Per thread, a frame stage's frame and working set; with the trust blend, the noisy and the
         // prefiltered frame beside it and a probe's copy.
-        const bool trusting = trusts_time_by_tile(params_);
+        const bool trusting = trusts_time_by_tile(stages);
         const double frame_stages = (pre || post) ? threads * (frame_stage_bytes(s) + (trusting ? 3 * frame_bytes : 0)) : 0;
         // Reading and writing files, each thread may hold OpenImageIO's buffer of a frame's pixels in
         // the file's type being decoded and one being encoded: at most a float frame each. At 4K that
@@ -82,7 +84,7 @@ void Filter::execute(const FrameSource& source, FrameSink& sink, const RunOption
             // last, the trust blend reads them back).
             start = 0.3;
             scratch = std::make_unique<ScratchFrames>(s, source.attributes());
-            if (trusting) trust = std::make_unique<TimeTrust>(s, time_trust_options(params_));
+            if (trusting) trust = std::make_unique<TimeTrust>(s, time_trust_options(stages));
             const Shape one{1, s.height, s.width, s.channels};
             std::vector<std::vector<double>> noisy_light(static_cast<size_t>(s.frames)), filtered_light(noisy_light.size());
             parallel_for(s.frames, threads, [&](int64_t f) {
@@ -97,7 +99,7 @@ void Filter::execute(const FrameSource& source, FrameSink& sink, const RunOption
                                  [&](float* pixels) { prefilter->apply(f, pixels, s, source.attributes()); });
                 scratch->write_frame(f, frame.data());
             }, {progress, 0.0, start, "prefilter"});
-            if (keeps_prefilter_light(params_)) scratch->set_gain(light_gain(noisy_light, filtered_light));
+            if (keeps_prefilter_light(stages)) scratch->set_gain(light_gain(noisy_light, filtered_light));
             if (!last) input = scratch.get();
         }
         // With the trust blend the temporal frames wait on disk until every frame's fit is known.

@@ -39,6 +39,10 @@ public:
 
     // The filter's own work as a streaming stage, or null when it needs the whole shot in memory.
     virtual std::unique_ptr<StreamStage> stream_stage() const;
+    // The parameters of the single-frame stages run around the filter's own work (prefilter,
+    // postfilter, their order, the trust blend): its own, unless it picks a stage itself (quality
+    // high picks OIDN).
+    virtual ParamSet frame_stage_params() const { return params_; }
     // What the filter's own work reaches (without its pre/postfilter), and how many sequence-sized
     // buffers it holds besides its input and output when it runs in memory.
     virtual Footprint footprint() const { return {}; }

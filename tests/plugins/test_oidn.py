@@ -78,6 +78,26 @@ def test_parameters_and_guides(oidn, sample):
     np.testing.assert_array_equal(out[..., :3], default)
 
 
+def test_high_runs_oidn_last_and_streams(oidn, sample, tmp_path):
+    """--quality high: the hybrid on the noisy frames, then OIDN on its result, blended back towards OIDN
+    on the noisy frames; streamed from files it equals the shot in memory, and it beats OIDN alone."""
+    import json
+    noisy, ref = sample
+    out = tmp_path / "out.####.exr"
+    proc = run_cli("denoise", NOISY, out, "--quality", "high", "--float", "--json")
+    results = json.loads(proc.stdout)["results"]
+    assert results["method"] in ("hybrid then oidn", "pca then oidn"), results
+    assert results["run.streamed"] == 1 and 0 <= results["prefilter_trust.share"] <= 1, results
+    streamed = statfilter.read_sequence(str(out))
+    in_memory = statfilter.Filter("auto", quality="high")(noisy)
+    np.testing.assert_allclose(streamed, in_memory, rtol=1e-4, atol=1e-6)
+    alone = statfilter.compare(statfilter.Filter("oidn")(noisy), ref)
+    assert statfilter.compare(streamed, ref)["rel_mse"] < 0.85 * alone["rel_mse"]
+    # OIDN first, the order before: also below OIDN alone, and above the order run last here.
+    first = statfilter.Filter("auto", quality="high", prefilter_order="first")(noisy)
+    assert statfilter.compare(streamed, ref)["rel_mse"] < statfilter.compare(first, ref)["rel_mse"] < alone["rel_mse"]
+
+
 def test_cli_prefilter_oidn(oidn, tmp_path):
     out = tmp_path / "out.####.exr"
     run_cli("denoise", NOISY, out, "--method", "pca", "--rank", "auto", "--prefilter", "oidn",
