@@ -187,7 +187,7 @@ public:
         std::vector<ParamSpec> p = {
             choice_param("quality", "balanced", {"fast", "balanced", "high"},
                          "fast: global PCA; balanced: the method measured best for the scene's motion; high: "
-                         "OIDN on every frame first (when available), then the best temporal method"),
+                         "the hybrid at its most accurate flow, then OIDN on its result (when available)"),
             float_param("still_fraction", "0.01", 0, 1,
                         "below this share of moving pixels (the mean moving weight: 1 - alpha, raised by the "
                         "temporal-change test and the motion vectors) the scene counts as still"),
