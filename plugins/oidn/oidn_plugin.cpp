@@ -3,6 +3,7 @@
 // prefilter (statfilter denoise IN OUT --method pca --prefilter oidn).
 #include <dlfcn.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -125,6 +126,14 @@ public:
         const size_t frame_floats = static_cast<size_t>(s.width * s.height) * 3;
         for (int64_t f = 0; f < s.frames; ++f) {
             load_color(run, f, color_);
+            // A black frame stays black: OIDN's HDR mode returns a faint level (about 4e-6) on a frame
+            // of zeros, which has no brightness for its auto-exposure to measure.
+            if (std::all_of(color_.begin(), color_.begin() + static_cast<std::ptrdiff_t>(frame_floats),
+                            [](float v) { return v == 0.0f; })) {
+                std::fill(output_.begin(), output_.begin() + static_cast<std::ptrdiff_t>(frame_floats), 0.0f);
+                store_output(run, f, output_);
+                continue;
+            }
             // This frame's guides: re-pointing a shared image needs a new commit.
             if (!albedo.empty()) share("albedo", albedo.data() + f * frame_floats);
             if (!normal.empty()) share("normal", normal.data() + f * frame_floats);

@@ -98,6 +98,20 @@ def test_high_runs_oidn_last_and_streams(oidn, sample, tmp_path):
     assert statfilter.compare(streamed, ref)["rel_mse"] < statfilter.compare(first, ref)["rel_mse"] < alone["rel_mse"]
 
 
+def test_black_stays_black(oidn, sample):
+    """Zero in, zero out: OIDN alone returned a faint level (about 4e-6) on a frame of zeros."""
+    zero = np.zeros((6, 40, 48, 3), np.float32)
+    for f in (statfilter.Filter("oidn"), statfilter.Filter("auto", quality="high"),
+              statfilter.Filter("pca", prefilter="oidn")):
+        np.testing.assert_array_equal(f(zero), zero)
+    # A black frame among lit ones stays black; the lit ones are denoised as before.
+    noisy = sample[0][:4].copy()
+    noisy[2] = 0
+    out = statfilter.Filter("oidn")(noisy)
+    np.testing.assert_array_equal(out[2], 0)
+    np.testing.assert_array_equal(out[[0, 1, 3]], statfilter.Filter("oidn")(noisy[[0, 1, 3]]))
+
+
 def test_cli_prefilter_oidn(oidn, tmp_path):
     out = tmp_path / "out.####.exr"
     run_cli("denoise", NOISY, out, "--method", "pca", "--rank", "auto", "--prefilter", "oidn",
