@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "statfilter/error.hpp"
 
@@ -43,15 +44,33 @@ TimeTrust::TimeTrust(const Shape& shape, const TimeTrustOptions& options)
     : shape_(shape), options_(options), tiles_x_((shape.width + options.tile - 1) / options.tile),
       tiles_y_((shape.height + options.tile - 1) / options.tile),
       stein_(static_cast<size_t>(shape.frames)), sigma2_(static_cast<size_t>(shape.frames)),
-      num_(static_cast<size_t>(shape.frames)), den_(static_cast<size_t>(shape.frames)) {}
+      num_(static_cast<size_t>(shape.frames)), den_(static_cast<size_t>(shape.frames)),
+      limit_(static_cast<size_t>(shape.frames)) {}
 
 void TimeTrust::probe(int64_t f, const float* x, const float* y, const std::function<void(float*)>& prefilter) {
     const int64_t samples = shape_.width * shape_.height * shape_.channels;
+    const size_t tiles = static_cast<size_t>(tiles_x_ * tiles_y_);
+    // Each tile's witnesses: residuals within outlier_z robust deviations (a firefly's is not one).
+    std::vector<double> limit(tiles, std::numeric_limits<double>::infinity());
+    if (options_.outlier_z > 0) {
+        std::vector<std::vector<float>> magnitude(tiles);
+        each_sample_by_tile(shape_, options_.tile, tiles_x_, [&](size_t t, int64_t i) {
+            const float r = std::fabs(x[i] - y[i]);
+            if (std::isfinite(r)) magnitude[t].push_back(r);
+        });
+        for (size_t t = 0; t < tiles; ++t) {
+            auto& m = magnitude[t];
+            if (m.empty()) continue;
+            std::nth_element(m.begin(), m.begin() + static_cast<std::ptrdiff_t>(m.size() / 2), m.end());
+            const double deviation = 1.4826 * m[m.size() / 2];
+            if (deviation > 0) limit[t] = options_.outlier_z * deviation;
+        }
+    }
     // Each tile's noise variance sigma^2, from the prefilter's residual x - y (the truth is near y).
-    std::vector<double> sigma2(static_cast<size_t>(tiles_x_ * tiles_y_), 0.0), count(sigma2.size(), 0.0);
+    std::vector<double> sigma2(tiles, 0.0), count(tiles, 0.0);
     each_sample_by_tile(shape_, options_.tile, tiles_x_, [&](size_t t, int64_t i) {
         const double r = static_cast<double>(x[i]) - y[i];
-        if (std::isfinite(r)) {
+        if (std::isfinite(r) && std::fabs(r) <= limit[t]) {
             sigma2[t] += r * r;
             count[t] += 1;
         }
@@ -71,23 +90,25 @@ void TimeTrust::probe(int64_t f, const float* x, const float* y, const std::func
     std::vector<double> stein(sigma2.size(), 0.0);
     each_sample_by_tile(shape_, options_.tile, tiles_x_, [&](size_t t, int64_t i) {
         const double s = step[static_cast<size_t>(i)];
-        if (s == 0) return;
+        if (s == 0 || !(std::fabs(static_cast<double>(x[i]) - y[i]) <= limit[t])) return;  // as the fit's samples
         // sigma^2 dy_i/dx_i, estimated along the sign pattern: sigma^2 b (y' - y) / eps
         const double d = sigma2[t] * (static_cast<double>(perturbed[static_cast<size_t>(i)]) - y[i]) / s;
         if (std::isfinite(d)) stein[t] += d;
     });
     stein_[static_cast<size_t>(f)] = std::move(stein);
     sigma2_[static_cast<size_t>(f)] = std::move(sigma2);
+    limit_[static_cast<size_t>(f)] = std::move(limit);
 }
 
 void TimeTrust::measure(int64_t f, const float* x, const float* y, const float* z) {
     const std::vector<double>& stein = stein_[static_cast<size_t>(f)];
     if (stein.empty()) throw Error(Status::Internal, "time trust: frame " + std::to_string(f) + " was not probed");
+    const std::vector<double>& limit = limit_[static_cast<size_t>(f)];
     std::vector<double> num(stein), den(stein.size(), 0.0);
     each_sample_by_tile(shape_, options_.tile, tiles_x_, [&](size_t t, int64_t i) {
         const double d = static_cast<double>(y[i]) - z[i];
         const double e = static_cast<double>(y[i]) - x[i];
-        if (!std::isfinite(d) || !std::isfinite(e)) return;
+        if (!std::isfinite(d) || !(std::fabs(e) <= limit[t])) return;  // not finite, or a firefly's
         num[t] += e * d;
         den[t] += d * d;
     });

@@ -39,6 +39,7 @@ TimeTrustOptions time_trust_options(const ParamSet& params) {
     o.tile = params.get_int("prefilter_trust_tile");
     o.pool = params.get_int("prefilter_trust_pool");
     o.probe = params.get_float("prefilter_trust_probe");
+    if (params.has("firefly_z")) o.outlier_z = params.get_float("firefly_z");
     return o;
 }
 

@@ -9,8 +9,10 @@
 // a share that jumps from frame to frame would bring the flicker back), so the sums are pooled over
 // the frames t-2..t+2 and w is the posterior mean under a unit prior around 1 (trust time):
 // w = (F w_fit + 1) / (F + 1), F = sum d^2 / sigma^2 the evidence in noise units. The output is
-// y - w d, with w interpolated between tile centres. docs/methods.md, "Trusting time after a
-// prefilter".
+// y - w d, with w interpolated between tile centres. A firefly of the noisy frame is no witness: a
+// sample whose residual x - y lies beyond `outlier_z` robust deviations of its tile's residuals is left
+// out of the tile's fit and noise (one such sample outweighed every other of the pooled frames, and
+// moved their output by several per cent). docs/methods.md, "Trusting time after a prefilter".
 #pragma once
 #include <cstdint>
 #include <functional>
@@ -28,6 +30,10 @@ struct TimeTrustOptions {
     int64_t pool = 2;
     // The probe's step, in units of the tile's noise.
     double probe = 0.05;
+    // A residual x - y beyond this many robust deviations (1.4826 x the median |x - y| of its tile
+    // and frame) is a firefly's, left out of the fit; 0 = none left out. The filters pass their
+    // firefly_z.
+    double outlier_z = 8;
 };
 
 class TimeTrust {
@@ -51,8 +57,9 @@ private:
     Shape shape_;
     TimeTrustOptions options_;
     int64_t tiles_x_, tiles_y_;
-    // [frame][tile]: Stein's correction, noise variance, the fit's numerator and denominator
-    std::vector<std::vector<double>> stein_, sigma2_, num_, den_;
+    // [frame][tile]: Stein's correction, noise variance, the fit's numerator and denominator, the
+    // largest |x - y| a witness may have
+    std::vector<std::vector<double>> stein_, sigma2_, num_, den_, limit_;
 };
 
 }  // namespace statfilter
