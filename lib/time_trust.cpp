@@ -50,21 +50,20 @@ TimeTrust::TimeTrust(const Shape& shape, const TimeTrustOptions& options)
 void TimeTrust::probe(int64_t f, const float* x, const float* y, const std::function<void(float*)>& prefilter) {
     const int64_t samples = shape_.width * shape_.height * shape_.channels;
     const size_t tiles = static_cast<size_t>(tiles_x_ * tiles_y_);
-    // Each tile's witnesses: residuals within outlier_z robust deviations (a firefly's is not one).
+    // Each tile's witnesses: residuals within outlier_z times the tile's RMS residual (a firefly's is
+    // not one). The RMS, not a median: renders' noise is heavy-tailed, and its tail is evidence.
     std::vector<double> limit(tiles, std::numeric_limits<double>::infinity());
     if (options_.outlier_z > 0) {
-        std::vector<std::vector<float>> magnitude(tiles);
+        std::vector<double> squares(tiles, 0.0), n(tiles, 0.0);
         each_sample_by_tile(shape_, options_.tile, tiles_x_, [&](size_t t, int64_t i) {
-            const float r = std::fabs(x[i] - y[i]);
-            if (std::isfinite(r)) magnitude[t].push_back(r);
+            const double r = static_cast<double>(x[i]) - y[i];
+            if (std::isfinite(r)) {
+                squares[t] += r * r;
+                n[t] += 1;
+            }
         });
-        for (size_t t = 0; t < tiles; ++t) {
-            auto& m = magnitude[t];
-            if (m.empty()) continue;
-            std::nth_element(m.begin(), m.begin() + static_cast<std::ptrdiff_t>(m.size() / 2), m.end());
-            const double deviation = 1.4826 * m[m.size() / 2];
-            if (deviation > 0) limit[t] = options_.outlier_z * deviation;
-        }
+        for (size_t t = 0; t < tiles; ++t)
+            if (squares[t] > 0) limit[t] = options_.outlier_z * std::sqrt(squares[t] / n[t]);
     }
     // Each tile's noise variance sigma^2, from the prefilter's residual x - y (the truth is near y).
     std::vector<double> sigma2(tiles, 0.0), count(tiles, 0.0);
