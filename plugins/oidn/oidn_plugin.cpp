@@ -47,11 +47,15 @@ const sf_param_info kParams[] = {
           "normal guide (needs albedo): a frame pattern or a layer of the input's files; empty = none", 0, 0, ""),
     param("clean_aux", SF_PARAM_INT, "0", "1: the albedo and normal passes are noise-free (OIDN's cleanAux)", 0, 1, ""),
     param("threads", SF_PARAM_INT, "0", "CPU threads OIDN may use; 0 = its own choice (all cores)", 0, 1024, ""),
+    param("max_memory_mb", SF_PARAM_INT, "0",
+          "most scratch memory OIDN may use per frame being denoised, in MiB (its maxMemoryMB: it then denoises "
+          "in overlapping tiles, a little slower); 0 = its own choice (about 6 GB above 2K). Not part of the run's "
+          "--memory budget", 0, 1 << 20, ""),
 };
 
 struct Settings {
     std::string quality = "high", albedo, normal;
-    int hdr = 1, clean_aux = 0, threads = 0;
+    int hdr = 1, clean_aux = 0, threads = 0, max_memory_mb = 0;
 };
 
 // An OIDN failure, with OIDN's own message.
@@ -121,7 +125,7 @@ public:
 
         open_device();
         const FilterKey key{s.width, s.height, !albedo.empty(), !normal.empty(), settings.hdr, settings.clean_aux,
-                            settings.quality};
+                            settings.quality, settings.max_memory_mb};
         if (!filter_ || !(key == key_)) make_filter(key);
         const size_t frame_floats = static_cast<size_t>(s.width * s.height) * 3;
         for (int64_t f = 0; f < s.frames; ++f) {
@@ -155,9 +159,10 @@ private:
         bool albedo = false, normal = false;
         int hdr = 1, clean_aux = 0;
         std::string quality;
+        int max_memory_mb = 0;
         bool operator==(const FilterKey& o) const {
             return width == o.width && height == o.height && albedo == o.albedo && normal == o.normal && hdr == o.hdr &&
-                   clean_aux == o.clean_aux && quality == o.quality;
+                   clean_aux == o.clean_aux && quality == o.quality && max_memory_mb == o.max_memory_mb;
         }
     };
 
@@ -181,6 +186,7 @@ private:
         api_.setFilterBool(filter_, "hdr", key.hdr != 0);
         api_.setFilterBool(filter_, "cleanAux", key.clean_aux != 0);
         api_.setFilterInt(filter_, "quality", quality_value(key.quality));
+        if (key.max_memory_mb > 0) api_.setFilterInt(filter_, "maxMemoryMB", key.max_memory_mb);
     }
 
     void open_device() {
@@ -300,6 +306,7 @@ sf_status set_param(void* instance, const char* name, const char* value, char* e
         else if (n == "normal") s.normal = v;
         else if (n == "clean_aux") s.clean_aux = std::stoi(v);
         else if (n == "threads") s.threads = std::stoi(v);
+        else if (n == "max_memory_mb") s.max_memory_mb = std::stoi(v);
         else throw OidnFailure(SF_ERROR_NOT_FOUND, "unknown parameter '" + n + "'");
     });
 }
