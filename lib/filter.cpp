@@ -37,8 +37,7 @@ void Filter::execute(const Sequence& input, Sequence& output, const Progress& pr
     // on its result, in place of the postfilter.
     const bool pre = has_frame_stage(stages, "prefilter"), post = runs_postfilter(stages);
     const bool last = prefilter_runs_last(stages);
-    // Run last without the trust blend, the prefilter's frames of the noisy shot are not needed.
-    const bool prefilter_first = pre && (!last || trusts_time_by_tile(stages));
+    const bool prefilter_first = prefilters_noisy_shot(stages);
     const double pre_span = prefilter_first ? 0.4 : 0.0, post_span = (post || last) ? 0.2 : 0.0;
     std::unique_ptr<Sequence> prefiltered, filtered;
     const Sequence* source = &input;

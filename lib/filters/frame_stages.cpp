@@ -66,6 +66,10 @@ bool prefilter_runs_last(const ParamSet& params) {
            params.get_string("prefilter_order") == "last";
 }
 
+bool prefilters_noisy_shot(const ParamSet& params) {
+    return has_frame_stage(params, "prefilter") && (!prefilter_runs_last(params) || trusts_time_by_tile(params));
+}
+
 bool temporal_sees_prefilter(const ParamSet& params) {
     return has_frame_stage(params, "prefilter") && !prefilter_runs_last(params);
 }

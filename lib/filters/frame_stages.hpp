@@ -66,6 +66,9 @@ bool has_frame_stage(const ParamSet& params, const std::string& stage);
 // given frames a temporal pass has already averaged sees a higher sample count, and leaves less of
 // its own error (docs/methods.md, "Trusting time after a prefilter").
 bool prefilter_runs_last(const ParamSet& params);
+// True when the prefilter runs on the noisy shot before the temporal filter: as its input (first), or
+// as what the trust blend falls back to (last, with prefilter_trust).
+bool prefilters_noisy_shot(const ParamSet& params);
 // True when the temporal filter works on a prefilter's frames (a prefilter, run first).
 bool temporal_sees_prefilter(const ParamSet& params);
 // True when the postfilter runs: named, and not replaced by a prefilter run last.

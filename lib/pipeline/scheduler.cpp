@@ -51,7 +51,7 @@ void Filter::execute(const FrameSource& source, FrameSink& sink, const RunOption
     // frame it hands on, in place of the postfilter; without the trust blend it runs only then.
     const bool pre = has_frame_stage(stages, "prefilter"), post = runs_postfilter(stages);
     const bool last = prefilter_runs_last(stages);
-    const bool prefilter_first = pre && (!last || trusts_time_by_tile(stages));
+    const bool prefilter_first = prefilters_noisy_shot(stages);
     std::unique_ptr<FrameStagePool> prefilter, postfilter;
     results_.clear();
     const Progress& progress = options.progress;
