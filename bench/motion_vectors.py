@@ -2,12 +2,14 @@
 """The renderer's motion vectors against optical flow, and the still/moving decision, per scene and
 level, beside Intel OIDN (high, colour only) in the same run. Prints markdown tables for
 docs/methods.md: relMSE and relMSE inside the moving region of the hybrid and of `balanced`, with
-the vectors (aux/vector.####.exr, handed over as the named input "vectors") and with DIS flow; then
-the leave-one-scene-out choice of the temporal-change threshold (`change_z`) and of `vector_drift`.
+the vectors (aux/vector.####.exr, handed over as the named input "vectors") and with DIS flow, and
+of `high` with and without them; then the leave-one-scene-out choice of the temporal-change
+threshold (`change_z`, balanced) and of `vector_drift` (the presets balanced and high with the
+vectors: the pipelines users run).
 With --conventions it only establishes the pass's channel order, signs and axes: each frame's
 albedo pass warped from frame t-1 (and t+1) by (X, Y) (and (Z, W)) with every sign combination,
 against frame t, over the pixels whose vectors exceed half a pixel. Usage:
-    python3 bench/motion_vectors.py [--data DIR] [--scenes a,b] [--levels spp0004,...] [--no-grid]
+    python3 bench/motion_vectors.py [--data DIR] [--scenes a,b] [--levels spp0004,...] [--grids change_z,vector_drift]
     python3 bench/motion_vectors.py --conventions [--scenes fast_ball,camera_pan]
 """
 
@@ -98,7 +100,8 @@ def main():
     parser.add_argument("--data", type=Path, default=ROOT.parent / "shared" / "data")
     parser.add_argument("--scenes", default="")
     parser.add_argument("--levels", default="spp0004,spp0016,spp0064")
-    parser.add_argument("--no-grid", action="store_true", help="only the main table")
+    parser.add_argument("--grids", default="change_z,vector_drift",
+                        help="the leave-one-scene-out sweeps to run (comma-separated; empty: only the main table)")
     parser.add_argument("--conventions", action="store_true", help="only the channel order, signs and axes")
     args = parser.parse_args()
     scenes = args.scenes.split(",") if args.scenes else sorted(
@@ -107,8 +110,9 @@ def main():
         conventions(args.data, scenes)
         return
     levels = args.levels.split(",")
-    print("| scene | level | OIDN | hybrid, flow | hybrid, vectors | balanced, alpha only | balanced | balanced, vectors |"
-          "\n| --- | --- | --- | --- | --- | --- | --- | --- |")
+    grids = [g for g in args.grids.split(",") if g]
+    print("| scene | level | OIDN | hybrid, flow | hybrid, vectors | balanced, alpha only | balanced | balanced, vectors "
+          "| high | high, vectors |\n| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |")
     z_table = {z: {} for z in Z_GRID}
     drift_table = {d: {} for d in DRIFT_GRID}
     for scene in scenes:
@@ -118,21 +122,25 @@ def main():
             noisy = statfilter.read_sequence(str(args.data / scene / level / "indirect.####.exr"))
             oidn = run("oidn", noisy, ref, quality="high")
             rows = [run("hybrid", noisy, ref), run("hybrid", noisy, ref, vectors),
-                    run("auto", noisy, ref, change_z=0), run("auto", noisy, ref), run("auto", noisy, ref, vectors)]
+                    run("auto", noisy, ref, change_z=0), run("auto", noisy, ref), run("auto", noisy, ref, vectors),
+                    run("auto", noisy, ref, quality="high"), run("auto", noisy, ref, vectors, quality="high")]
             cells = [f"{r['rel']:.4f} / {r['moving']:.4f}" for r in [oidn] + rows]
             for i in (3, 4, 5):  # what balanced picked: s(till) or m(oving), and the moving fraction
                 r = rows[i - 1]
                 cells[i] += f" ({'s' if r['method'].startswith('pca') else 'm'}, {100 * r['fraction']:.1f}%)"
             print(f"| {scene} | {level} | " + " | ".join(cells) + " |", flush=True)
-            if args.no_grid:
-                continue
-            for z in Z_GRID:
-                z_table[z][(scene, level)] = run("auto", noisy, ref, change_z=z)["rel"] / oidn["rel"]
-            for d in DRIFT_GRID:
-                drift_table[d][(scene, level)] = run("hybrid", noisy, ref, vectors, vector_drift=d)["rel"] / oidn["rel"]
-    if not args.no_grid:
+            if "change_z" in grids:
+                for z in Z_GRID:
+                    z_table[z][(scene, level)] = run("auto", noisy, ref, change_z=z)["rel"] / oidn["rel"]
+            if "vector_drift" in grids:
+                for d in DRIFT_GRID:
+                    for quality in ("balanced", "high"):
+                        drift_table[d][(scene, (level, quality))] = run(
+                            "auto", noisy, ref, vectors, quality=quality, vector_drift=d)["rel"] / oidn["rel"]
+    if "change_z" in grids:
         loso(z_table, scenes, "change_z (balanced, no vectors)")
-        loso(drift_table, scenes, "vector_drift (hybrid with vectors)")
+    if "vector_drift" in grids:
+        loso(drift_table, scenes, "vector_drift (balanced and high with the vectors)")
 
 
 if __name__ == "__main__":

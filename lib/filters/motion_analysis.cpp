@@ -38,9 +38,10 @@ std::vector<ParamSpec> motion_params() {
         float_param("change_z_grow", "3", 0, 1e6,
                     "temporal-change test: a pixel scoring above this moves too when joined to one above change_z "
                     "through others that do (the rest of an object's path); 0 = not grown"),
-        float_param("vector_drift", "0.5", 0, 1e9,
-                    "with the renderer's motion vectors: a pixel they carry this many pixels over the shot moves "
-                    "(0 = the vectors only align, they do not say where things move)"),
+        float_param("vector_drift", "0", 0, 1e9,
+                    "with the renderer's motion vectors: a pixel they carry this many pixels over the shot moves; "
+                    "0 = the vectors only align, the data says where things move (a surface sliding with no change "
+                    "of its light keeps the temporal model)"),
         float_param("aux_threshold", "0.05", 0, 1e9, "a pass value departing this far from its temporal median means motion"),
     };
 }

@@ -181,8 +181,10 @@ TEST(TemporalChange, TheHybridDoesNotGhostAFastBall) {
         EXPECT_EQ(light.result("own_first_pass_fraction"), 0.0);
 }
 
-// Vectors mark the pixels they carry half a pixel or more over the shot; the hybrid and auto take them
-// as the input "vectors" (auto hands them on to the hybrid, which aligns along them).
+// Vectors mark the pixels they carry half a pixel or more over the shot when vector_drift asks them
+// to; the hybrid and auto take them as the input "vectors" (auto hands them on to the hybrid, which
+// aligns along them). By default they only align: a wall whose light does not change stays a still
+// scene however far its vectors say it slides.
 TEST(MotionVectors, MarkWhatMovesAndReachTheHybridThroughAuto) {
     Sequence vectors(Shape{kFrames, kHeight, kWidth, 4});
     for (int64_t f = 0; f < kFrames; ++f)
@@ -196,9 +198,14 @@ TEST(MotionVectors, MarkWhatMovesAndReachTheHybridThroughAuto) {
     EXPECT_THROW(motion_from_vectors(three, 0.5), Error);
 
     const auto still = wall(0.2, 0.0, false);
-    auto filter = create_filter("auto");
-    filter->set_input("vectors", &vectors);
     Sequence out(still->shape());
+    auto aligning = create_filter("auto");
+    aligning->set_input("vectors", &vectors);
+    aligning->execute(*still, out, Progress());
+    EXPECT_EQ(aligning->results().get_string("method"), "pca then diffusion");
+    auto filter = create_filter("auto");
+    filter->params().set_string("vector_drift", "0.5");
+    filter->set_input("vectors", &vectors);
     filter->execute(*still, out, Progress());
     EXPECT_EQ(filter->results().get_string("method"), "hybrid then diffusion");
     EXPECT_EQ(filter->results().get_string("hybrid.motion_compensation"), "the renderer's motion vectors");
