@@ -95,7 +95,9 @@ bool trusts_time_by_tile(const ParamSet& params) {
     return has_frame_stage(params, "prefilter") && params.has("prefilter_trust") && params.get_int("prefilter_trust") != 0;
 }
 
-void set_param_list(ParamSet& params, const std::string& list, const std::string& what) {
+namespace {
+
+std::vector<std::pair<std::string, std::string>> parse_param_list(const std::string& list, const std::string& what) {
     std::vector<std::pair<std::string, std::string>> items;
     size_t start = 0;
     while (start < list.size()) {
@@ -111,7 +113,19 @@ void set_param_list(ParamSet& params, const std::string& list, const std::string
         }
         start = comma + 1;
     }
-    for (const auto& [name, value] : items) {
+    return items;
+}
+
+}  // namespace
+
+bool names_param(const std::string& list, const std::string& name) {
+    for (const auto& item : parse_param_list(list, "a parameter list"))
+        if (item.first == name) return true;
+    return false;
+}
+
+void set_param_list(ParamSet& params, const std::string& list, const std::string& what) {
+    for (const auto& [name, value] : parse_param_list(list, what)) {
         try {
             params.set_string(name, value);
         } catch (const Error& e) {

@@ -41,6 +41,8 @@ std::vector<ParamSpec> postfilter_params(const char* default_filter = "", const 
 // Sets each name=value of a comma list with ParamSet::set_string. A piece without '=' continues the
 // previous value, so "channels=R,G,B" keeps its commas. Throws naming `what` and the piece at fault.
 void set_param_list(ParamSet& params, const std::string& list, const std::string& what);
+// Whether such a list sets parameter `name`.
+bool names_param(const std::string& list, const std::string& name);
 
 // Runs the single-frame filter that parameter `stage` ("prefilter" or "postfilter") names, with
 // the parameters of `stage`_params, from input into output. Its results are added to results as

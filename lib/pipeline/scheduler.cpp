@@ -19,6 +19,10 @@
 namespace statfilter {
 namespace {
 
+// The least scratch a single-frame stage's instance is given (OIDN's tiles: 256 MiB kept a 1080p frame
+// within about a third of its time untiled, docs/streaming.md).
+constexpr double kLeastStageShare = 256.0 * 1024 * 1024;
+
 std::string shot_text(const Shape& s) {
     return std::to_string(s.frames) + " frames of " + std::to_string(s.width) + " x " + std::to_string(s.height) +
            " x " + std::to_string(s.channels);
@@ -72,8 +76,23 @@ void Filter::execute(const FrameSource& source, FrameSink& sink, const RunOption
         // the file's type being decoded and one being encoded: at most a float frame each. At 4K that
         // is 0.2 GiB a thread, so it is counted, not left to the fixed overhead.
         const double io_buffers = source.in_memory() ? 0.0 : 2.0 * threads * frame_bytes;
-        needed = stage->min_bytes(s, threads) + frame_stages + io_buffers;
+        // A single-frame denoiser's own scratch (OIDN's: 3000 MiB an instance by default, whatever the
+        // budget) is a share of the budget: each pool keeps up to one instance a thread, each given at
+        // least kLeastStageShare and at most an equal part of half what the rest leaves, the other half
+        // going to the stage's bands.
+        const int sharing = (prefilter && prefilter->takes_memory_share() ? 1 : 0) +
+                            (postfilter && postfilter->takes_memory_share() ? 1 : 0);
+        const double instances = static_cast<double>(sharing) * threads;
+        needed = stage->min_bytes(s, threads) + frame_stages + io_buffers + instances * kLeastStageShare;
         check_memory_budget(needed, budget, "this run (" + shot_text(s) + ", streamed)");
+        double stage_shares = 0;
+        if (sharing > 0) {
+            const double each = std::max(kLeastStageShare, 0.5 * (budget - needed) / instances + kLeastStageShare);
+            for (FrameStagePool* pool : {prefilter.get(), postfilter.get()})
+                if (pool) pool->set_memory_share(each / (1024.0 * 1024.0));
+            stage_shares = instances * each;
+            results_.set("run.frame_stage_memory_each", each);
+        }
         const FrameSource* input = &source;
         std::unique_ptr<ScratchFrames> scratch;
         std::unique_ptr<TimeTrust> trust;
@@ -111,7 +130,7 @@ void Filter::execute(const FrameSource& source, FrameSink& sink, const RunOption
         });
         StageContext context;
         context.threads = threads;
-        context.budget_bytes = budget - frame_stages - io_buffers;
+        context.budget_bytes = budget - frame_stages - io_buffers - stage_shares;
         context.progress = &stage_progress;
         // What a preset picked is known before its first frame is handed on: the frames say so.
         std::once_flag provenance;

@@ -1,6 +1,7 @@
 """The oidn plugin. Without libOpenImageDenoise these tests skip, saying why, except the one that
 checks the error a user then gets. CI installs it (scripts/setup.sh: pip install pyoidn)."""
 
+import math
 import os
 
 import numpy as np
@@ -99,6 +100,36 @@ def test_high_runs_oidn_last_and_streams(oidn, sample, tmp_path):
     # OIDN first, the order before: also below OIDN alone, and above the order run last here.
     first = statfilter.Filter("auto", quality="high", prefilter_order="first")(noisy)
     assert statfilter.compare(streamed, ref)["rel_mse"] < statfilter.compare(first, ref)["rel_mse"] < alone["rel_mse"]
+
+
+def test_oidn_scratch_is_a_share_of_the_budget(oidn, tmp_path):
+    """OIDN's own scratch (3000 MiB an instance by default) comes out of --memory: each instance is given
+    max_memory_mb, at least 256 MiB (counted in what the run needs) and half of what the rest leaves;
+    a max_memory_mb the user gives is kept."""
+    import json
+    mib = 1024.0 * 1024.0
+    out = tmp_path / "out.####.exr"
+
+    def results(*args):
+        proc = run_cli("denoise", NOISY, out, "--frames", "1-6", "--float", "--json", *args)
+        return json.loads(proc.stdout)["results"]
+
+    shared = results("--quality", "high", "--memory", "1G", "--threads", "2")
+    each, needed = shared["run.frame_stage_memory_each"], shared["run.memory_needed"]
+    assert shared["run.memory_budget"] == 1024 * mib and needed <= 1024 * mib
+    assert needed >= 2 * 256 * mib  # one instance a thread, each at least 256 MiB
+    # 256 MiB and half of what the budget leaves, split between the two instances.
+    assert each == pytest.approx(256 * mib + 0.5 * (1024 * mib - needed) / 2, rel=1e-6)
+    smaller = results("--quality", "high", "--memory", "768M", "--threads", "2")
+    assert 256 * mib <= smaller["run.frame_stage_memory_each"] < each
+    own = results("--method", "hybrid", "--prefilter", "oidn", "--prefilter-params", "max_memory_mb=64",
+                  "--memory", "1G", "--threads", "2")
+    assert "run.frame_stage_memory_each" not in own
+    assert own["run.memory_needed"] < needed - 2 * 200 * mib
+    # Below the least share: refused before any work, with the budget that would do.
+    proc = run_cli("denoise", NOISY, out, "--quality", "high", "--frames", "1-6", "--memory", "300M",
+                   "--threads", "2", check_rc=1)
+    assert f"give at least --memory {math.ceil(needed / mib)}M" in proc.stderr, proc.stderr
 
 
 def test_black_stays_black(oidn, sample):
