@@ -107,6 +107,9 @@ int run_filter(const Args& args, const std::string& method) {
     };
     const sf_shape shape{result_int("run.frames"), result_int("run.height"), result_int("run.width"),
                          result_int("run.channels")};
+    // What the user must know whatever the verbosity (e.g. noise that is the same in every frame).
+    for (const auto& [name, value] : results)
+        if (name == "warning") std::fprintf(stderr, "statfilter: warning: %s\n", value.c_str());
     if (args.flag("json")) {
         std::string j = "{\n  \"input\": " + json_string(in) + ",\n  \"output\": " + json_string(out) +
                         ",\n  \"method\": " + json_string(method) + ",\n  \"frames\": " + std::to_string(shape.frames) +

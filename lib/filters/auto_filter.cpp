@@ -32,6 +32,7 @@
 #include "filters/motion_analysis.hpp"
 #include "filters/temporal_params.hpp"
 #include "pipeline/low_rank_stage.hpp"
+#include "pipeline/noise_probe.hpp"
 #include "statfilter/filter_registry.hpp"
 
 namespace statfilter {
@@ -87,6 +88,14 @@ Choice choose(const std::string& quality, double moving, bool still, bool passes
     return c;
 }
 
+// Results "noise_in_time" (the ratio, when measured) and "warning" (when the noise is the same in
+// every frame: the front ends show it whatever their verbosity).
+void report_noise_in_time(const NoiseInTime& noise, Results& results) {
+    if (noise.pairs > 0) results.set("noise_in_time", noise.ratio());
+    const std::string warning = same_noise_warning(noise);
+    if (!warning.empty()) results.set("warning", warning);
+}
+
 Choice fast_choice() {
     Choice c;
     c.method = "pca";
@@ -103,6 +112,7 @@ public:
     double min_bytes(const Shape& shape, int threads) const override { return inner_->min_bytes(shape, threads); }
     void run(const FrameSource& source, const FrameConsumer& consume, const StageContext& context,
              Results& results) override {
+        noise_ = probe_noise_in_time(source);  // a few rows of six frames, before the work
         annotate(results);  // known before the first frame, so the frames can say what made them
         Results own;
         inner_->run(source, consume, context, own);
@@ -115,12 +125,14 @@ public:
         results.set("reason", choice_.reason);
         results.set("quality", "fast");
         results.set("transform", transform_);
+        report_noise_in_time(noise_, results);
     }
 
 private:
     std::unique_ptr<StreamStage> inner_;
     Choice choice_;
     std::string transform_;
+    NoiseInTime noise_;
 };
 
 // balanced and high streamed: the hybrid's stage decides still or moving once, from one analysis, and
@@ -137,6 +149,7 @@ public:
     void run(const FrameSource& source, const FrameConsumer& consume, const StageContext& context,
              Results& results) override {
         Results own;
+        const NoiseInTime noise = probe_noise_in_time(source);  // a few rows of six frames, before the work
         // The choice is made once the statistics are in, before the first frame: reported then, so
         // the frames can say what made them.
         std::once_flag decided;
@@ -153,6 +166,7 @@ public:
             results.set("reason", choice.reason);
             results.set("quality", quality_);
             results.set("transform", transform_);
+            report_noise_in_time(noise, results);
         };
         stage_.run(source, [&](int64_t f, float* pixels) {
             std::call_once(decided, report);
@@ -291,6 +305,7 @@ protected:
             }
         Choice choice;
         std::shared_ptr<Sequence> alpha;
+        const NoiseInTime noise = probe_noise_in_time(*memory_source(input));
         // The renderer's passes, read and checked before any work, used or not.
         const GuidePasses guides = guide_passes(*this, input, params());
         // The transform: the preset's unless the user named one.
@@ -346,6 +361,7 @@ protected:
         if (refine) picked += std::string(" then ") + kRefinePostfilter;
         mutable_results().set("method", picked);
         mutable_results().set("reason", choice.reason);
+        report_noise_in_time(noise, mutable_results());
         mutable_results().set("quality", quality);
         mutable_results().set("transform", transform);
         for (const auto& name : chosen->results().names())

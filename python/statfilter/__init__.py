@@ -15,7 +15,7 @@ use_pyoidn_if_unset()  # before any plugin is loaded: the oidn plugin then finds
 
 from ._capi import library_path  # noqa: E402
 from .errors import (CancelledError, Error, FileError, InternalError, InvalidArgumentError,  # noqa: E402
-                     NotFoundError, NumericError, OutOfMemoryError, UnsupportedError)
+                     NotFoundError, NumericError, OutOfMemoryError, StatfilterWarning, UnsupportedError)
 from .filter import Filter, filters, plugins, version  # noqa: E402
 from .detect import Detection, crop_windows, detect, merge  # noqa: E402
 from .metrics import compare  # noqa: E402
@@ -26,6 +26,6 @@ __version__ = "0.1.0"
 __all__ = [
     "Detection", "crop_windows", "detect", "merge",
     "CancelledError", "Error", "FileError", "Filter", "InternalError", "InvalidArgumentError", "NotFoundError",
-    "NumericError", "OutOfMemoryError", "SequenceInfo", "UnsupportedError", "Window", "compare", "filters", "library_path",
+    "NumericError", "OutOfMemoryError", "SequenceInfo", "StatfilterWarning", "UnsupportedError", "Window", "compare", "filters", "library_path",
     "pattern_format", "pattern_frames", "plugins", "read_sequence", "version", "write_sequence",
 ]

@@ -85,6 +85,11 @@ class InternalError(Error, RuntimeError):
     status = _capi.SF_ERROR_INTERNAL
 
 
+class StatfilterWarning(UserWarning):
+    """Something about a run the user must know although it succeeded (the filter's result
+    "warning"), e.g. noise that is the same in every frame, which no temporal filter removes."""
+
+
 ERRORS = {cls.status: cls for cls in (InvalidArgumentError, OutOfMemoryError, FileError, NotFoundError,
                                       UnsupportedError, CancelledError, NumericError, InternalError)}
 

@@ -10,6 +10,7 @@ import contextlib
 import ctypes
 import numbers
 import re
+import warnings
 from typing import TYPE_CHECKING, Any, Dict, List, Mapping, Optional, Union
 
 import numpy as np
@@ -17,7 +18,7 @@ import numpy as np
 from . import _arrays, _capi
 from ._handle import OwnsHandle
 from ._progress import ProgressAdapter, ProgressCallback
-from .errors import InvalidArgumentError, NotFoundError, check, error_for
+from .errors import InvalidArgumentError, NotFoundError, StatfilterWarning, check, error_for
 
 if TYPE_CHECKING:  # the argument types of run_files, defined with the file functions
     from .sequence import Channels, Frames, Pattern
@@ -283,6 +284,7 @@ class Filter(OwnsHandle):
         if error is not None:
             raise error
         self.results = self._read_results()
+        self._warn()
         if target is not out:
             np.copyto(out, target)
         return out
@@ -331,7 +333,13 @@ class Filter(OwnsHandle):
             message = _capi.text(_capi.lib.sf_filter_last_error(handle)) or _capi.text(_capi.lib.sf_last_error())
             raise error_for(status, message)
         self.results = self._read_results()
+        self._warn()
         return self.results
+
+    def _warn(self) -> None:
+        """The run's warning (result "warning"), as a StatfilterWarning."""
+        if "warning" in self.results:
+            warnings.warn(str(self.results["warning"]), StatfilterWarning, stacklevel=3)
 
     def __repr__(self) -> str:
         if not self._handle:

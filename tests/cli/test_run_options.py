@@ -92,3 +92,27 @@ def test_vectors_are_handed_to_the_hybrid_and_refused_by_others(small_sequence, 
     assert "--vectors" in proc.stderr and "does not use motion vectors" in proc.stderr
     proc = run("denoise", noisy, tmp_path / "h.####.exr", "--method", "hybrid", "--vectors", vectors, "--json")
     assert "vectors" in proc.stdout  # the hybrid says it aligned along the renderer's vectors
+
+
+def test_noise_the_same_in_every_frame_is_a_warning_even_when_quiet(small_sequence, tmp_path):
+    """A renderer with a fixed seed leaves the same noise on every frame: no temporal filter removes it,
+    so the run says so on stderr (with --quiet too) and in its results, and still writes its frames."""
+    import shutil
+    fixed = tmp_path / "fixed"
+    fixed.mkdir()
+    for f in range(1, 5):  # frame 1's samples on every frame: one seed for the whole shot
+        shutil.copy(small_sequence / "noisy.0001.exr", fixed / f"noisy.{f:04d}.exr")
+    for quality in ("fast", "balanced"):
+        out = tmp_path / quality / "o.####.exr"
+        proc = run("denoise", fixed / "noisy.####.exr", out, "--quality", quality, "--quiet")
+        assert "statfilter: warning: the noise is the same in every frame" in proc.stderr, proc.stderr
+        assert "seed" in proc.stderr
+        assert len(list(out.parent.glob("o.*.exr"))) == 4
+    proc = run("denoise", fixed / "noisy.####.exr", tmp_path / "j.####.exr", "--json")
+    results = json.loads(proc.stdout)["results"]
+    assert results["noise_in_time"] < 0.5 and "the same in every frame" in results["warning"]
+    # The shot as rendered, a seed per frame: no warning.
+    proc = run("denoise", small_sequence / "noisy.####.exr", tmp_path / "s.####.exr", "--json")
+    results = json.loads(proc.stdout)["results"]
+    assert results["noise_in_time"] > 0.8 and "warning" not in results
+    assert "warning" not in proc.stderr

@@ -167,3 +167,21 @@ def test_a_named_guide_pass_is_checked_even_where_the_scene_does_not_need_it(rng
             statfilter.Filter(name, albedo=str(tmp_path / "missing.####.exr"))(still)
         with pytest.raises(statfilter.InvalidArgumentError, match="albedo pass"):
             statfilter.Filter(name)(still, inputs={"albedo": np.zeros((12, 8, 20, 3), np.float32)})
+
+
+def test_noise_the_same_in_every_frame_is_a_warning(rng):
+    """One noise pattern on every frame (a renderer's fixed seed): the presets warn, through Python's
+    warnings, and report the figure; independent noise gives neither warning nor a low figure."""
+    picture = np.linspace(0.2, 1.0, 40 * 48 * 3, dtype=np.float32).reshape(40, 48, 3)
+    pattern = rng.gamma(16.0, 1.0 / 16.0, size=picture.shape).astype(np.float32)
+    fixed = np.stack([picture * pattern * (1 + 0.05 * f) for f in range(6)]).astype(np.float32)
+    f = statfilter.Filter("auto", quality="fast")
+    with pytest.warns(statfilter.StatfilterWarning, match="the same in every frame"):
+        f(fixed)
+    assert f.results["noise_in_time"] < 0.5 and "seed" in f.results["warning"]
+    independent = np.stack([picture * rng.gamma(16.0, 1.0 / 16.0, size=picture.shape) for _ in range(6)])
+    import warnings
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", statfilter.StatfilterWarning)
+        f(independent.astype(np.float32))
+    assert f.results["noise_in_time"] > 0.8 and "warning" not in f.results
