@@ -132,6 +132,41 @@ def test_oidn_scratch_is_a_share_of_the_budget(oidn, tmp_path):
     assert f"give at least --memory {math.ceil(needed / mib)}M" in proc.stderr, proc.stderr
 
 
+def test_high_with_the_same_noise_in_every_frame_is_oidn_alone(oidn, sample, tmp_path):
+    """A fixed seed leaves one noise pattern on every frame: no temporal filter removes it, so --quality
+    high runs OIDN alone (streamed, and on the shot in memory when passes are given) and warns."""
+    import json
+    import warnings
+    noisy = sample[0][:5]
+    fixed = np.repeat(noisy[:1], 5, axis=0) * np.linspace(1.0, 1.2, 5, dtype=np.float32)[:, None, None, None]
+    pattern = str(tmp_path / "fixed.####.exr")
+    statfilter.write_sequence(pattern, fixed, pixel_type="float")
+    alone = statfilter.Filter("oidn")(fixed)
+    # OIDN alone, and OIDN with the noisy shot's light per channel (keep_mean): what high gives lies
+    # between the two (the trust blend weighs them tile by tile).
+    gain = fixed.sum(axis=(0, 1, 2), dtype=np.float64) / alone.sum(axis=(0, 1, 2), dtype=np.float64)
+    low, high = np.minimum(alone, alone * gain), np.maximum(alone, alone * gain)
+
+    def between(out):
+        assert np.all(out >= low - 1e-5 - 1e-4 * np.abs(low)) and np.all(out <= high + 1e-5 + 1e-4 * np.abs(high))
+
+    proc = run_cli("denoise", pattern, tmp_path / "o.####.exr", "--quality", "high", "--float", "--json")
+    results = json.loads(proc.stdout)["results"]
+    assert results["method"] == "oidn" and results["run.streamed"] == 1, results
+    assert "the same in every frame" in results["warning"] and "warning" in proc.stderr
+    between(statfilter.read_sequence(str(tmp_path / "o.####.exr")))
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", statfilter.StatfilterWarning)
+        f = statfilter.Filter("auto", quality="high", albedo=str(AUX / "albedo.####.exr"))
+        f.run_files(pattern, str(tmp_path / "p.####.exr"), pixel_type="float")
+    assert f.results["method"] == "oidn" and f.results["run.streamed"] == 0, f.results
+    np.testing.assert_allclose(statfilter.read_sequence(str(tmp_path / "p.####.exr")), alone * gain, rtol=1e-4, atol=1e-6)
+    # The shot as rendered (a seed per frame) keeps the temporal pipeline.
+    f = statfilter.Filter("auto", quality="high")
+    f(noisy)
+    assert f.results["method"] in ("hybrid then oidn", "pca then oidn") and "warning" not in f.results
+
+
 def test_black_stays_black(oidn, sample):
     """Zero in, zero out: OIDN alone returned a faint level (about 4e-6) on a frame of zeros."""
     zero = np.zeros((6, 40, 48, 3), np.float32)
