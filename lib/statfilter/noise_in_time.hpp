@@ -6,7 +6,7 @@
 // robust deviation of the change from one frame to the next against that of a pixel from the mean of
 // its four neighbours, each scaled to one sample's noise. Independent noise gives a ratio near 1
 // (0.88-0.99 on every level and reference of the development renders); the same seed on every frame
-// leaves the change of the picture alone, near 0 on a still camera (0.00-0.21 on same-seed shots
+// leaves the change of the picture alone, near 0 on a still camera (0.00-0.32 on same-seed shots
 // made from those renders: docs/methods.md, "Noise that is the same in every frame").
 #pragma once
 #include <cstdint>
@@ -21,7 +21,7 @@ struct NoiseInTime {
     double ratio() const { return pairs > 0 && spatial > 0 ? temporal / spatial : 1.0; }
 };
 
-// Below this ratio the noise counts as the same in every frame: between the 0.21 of the most
+// Below this ratio the noise counts as the same in every frame: between the 0.32 of the most
 // changing same-seed shot measured and the 0.88 of the least independent one.
 constexpr double kSameNoiseRatio = 0.5;
 
