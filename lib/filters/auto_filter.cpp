@@ -98,6 +98,12 @@ void report_noise_in_time(const NoiseInTime& noise, Results& results) {
     if (!warning.empty()) results.set("warning", warning);
 }
 
+// The noise-in-time check on the frames a preset's stage is given: the shot as rendered, unless a
+// prefilter ran first (its frames say nothing of the renderer's seed): then not measured.
+NoiseInTime probe_shot(bool noisy_frames, const FrameSource& source) {
+    return noisy_frames ? probe_noise_in_time(source) : NoiseInTime{};
+}
+
 Choice fast_choice() {
     Choice c;
     c.method = "pca";
@@ -108,13 +114,14 @@ Choice fast_choice() {
 // The streamed form of a preset: the stage, then what the preset picked and why, as auto reports it.
 class AnnotatedStage final : public StreamStage {
 public:
-    AnnotatedStage(std::unique_ptr<StreamStage> inner, Choice choice, std::string transform)
-        : inner_(std::move(inner)), choice_(std::move(choice)), transform_(std::move(transform)) {}
+    AnnotatedStage(std::unique_ptr<StreamStage> inner, Choice choice, std::string transform, bool noisy_frames)
+        : inner_(std::move(inner)), choice_(std::move(choice)), transform_(std::move(transform)),
+          noisy_frames_(noisy_frames) {}
     Footprint footprint() const override { return inner_->footprint(); }
     double min_bytes(const Shape& shape, int threads) const override { return inner_->min_bytes(shape, threads); }
     void run(const FrameSource& source, const FrameConsumer& consume, const StageContext& context,
              Results& results) override {
-        noise_ = probe_noise_in_time(source);  // a few rows of six frames, before the work
+        noise_ = probe_shot(noisy_frames_, source);  // a few rows of six frames, before the work
         annotate(results);  // known before the first frame, so the frames can say what made them
         Results own;
         inner_->run(source, consume, context, own);
@@ -134,6 +141,7 @@ private:
     std::unique_ptr<StreamStage> inner_;
     Choice choice_;
     std::string transform_;
+    bool noisy_frames_;
     NoiseInTime noise_;
 };
 
@@ -143,15 +151,16 @@ class MotionPresetStage final : public StreamStage {
 public:
     // oidn: the pipeline runs OIDN around the stage (quality high; Filter::frame_stage_params).
     MotionPresetStage(HybridStageOptions options, std::string quality, std::string transform, double still_fraction,
-                      bool oidn)
-        : refine_(options.refine_after), oidn_(oidn), stage_(std::move(options)), quality_(std::move(quality)),
+                      bool oidn, bool noisy_frames)
+        : refine_(options.refine_after), oidn_(oidn), noisy_frames_(noisy_frames), stage_(std::move(options)),
+          quality_(std::move(quality)),
           transform_(std::move(transform)), still_fraction_(still_fraction) {}
     Footprint footprint() const override { return stage_.footprint(); }
     double min_bytes(const Shape& shape, int threads) const override { return stage_.min_bytes(shape, threads); }
     void run(const FrameSource& source, const FrameConsumer& consume, const StageContext& context,
              Results& results) override {
         Results own;
-        const NoiseInTime noise = probe_noise_in_time(source);  // a few rows of six frames, before the work
+        const NoiseInTime noise = probe_shot(noisy_frames_, source);  // a few rows of six frames, before the work
         if (oidn_ && noise.ratio() < kSameNoiseRatio) {
             pass_frames_to_oidn(source, consume, context, noise, results);
             return;
@@ -211,7 +220,7 @@ private:
         }, {context.progress ? *context.progress : none, 0, 1, "frames"});
     }
 
-    bool refine_, oidn_;
+    bool refine_, oidn_, noisy_frames_;
     HybridStage stage_;
     std::string quality_, transform_;
     double still_fraction_;
@@ -262,13 +271,14 @@ public:
             // else Filter::execute runs the user's postfilter, or the prefilter in its place
             options.refine_after = params().get_string("postfilter").empty() && !prefilter_runs_last(stages);
             return std::make_unique<MotionPresetStage>(std::move(options), quality, resolved_transform(),
-                                                       params().get_float("still_fraction"), picks_oidn());
+                                                       params().get_float("still_fraction"), picks_oidn(),
+                                                       !temporal_sees_prefilter(stages));
         }
         ParamSet pca = create_filter("pca")->params();
         for (const char* name : {"nonfinite", "shared_basis", "memory_mb"}) pca.set_string(name, params().get_string(name));
         pca.set_string("transform", fast_transform());
         return std::make_unique<AnnotatedStage>(std::make_unique<LowRankStage>(low_rank_options(pca, false)), fast_choice(),
-                                                fast_transform());
+                                                fast_transform(), !temporal_sees_prefilter(frame_stage_params()));
     }
     // quality high where OIDN can run and the preset streams: OIDN as a prefilter (at its defaults, run
     // last), which Filter::execute and the scheduler run around the stage frame by frame.
@@ -332,7 +342,7 @@ protected:
             }
         Choice choice;
         std::shared_ptr<Sequence> alpha;
-        const NoiseInTime noise = probe_noise_in_time(*memory_source(input));
+        const NoiseInTime noise = probe_shot(!temporal_sees_prefilter(frame_stage_params()), *memory_source(input));
         // The renderer's passes, read and checked before any work, used or not.
         const GuidePasses guides = guide_passes(*this, input, params());
         // The transform: the preset's unless the user named one.

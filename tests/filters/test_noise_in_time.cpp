@@ -114,6 +114,11 @@ TEST(NoiseInTime, ThePresetsWarnOfTheSameNoiseInEveryFrame) {
         EXPECT_GT(fine.result("noise_in_time"), 0.8) << quality;
         EXPECT_FALSE(fine.filter->results().has("warning")) << quality;
     }
+    // A prefilter run first: the stage sees its frames, which say nothing of the seed; not measured.
+    const FilterRun prefiltered = run_filter("auto", *fixed, {{"quality", "balanced"}, {"prefilter", "diffusion"},
+                                                              {"prefilter_order", "first"}});
+    EXPECT_FALSE(prefiltered.filter->results().has("noise_in_time"));
+    EXPECT_FALSE(prefiltered.filter->results().has("warning"));
     // One frame: nothing to measure, no warning.
     Sequence one(Shape{1, kH, kW, kC});
     for (int64_t y = 0; y < kH; ++y)
