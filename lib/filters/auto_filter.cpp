@@ -31,7 +31,6 @@
 #include "filters/hybrid_stage.hpp"
 #include "filters/motion_analysis.hpp"
 #include "filters/temporal_params.hpp"
-#include "pipeline/light_levels.hpp"
 #include "pipeline/low_rank_stage.hpp"
 #include "pipeline/noise_probe.hpp"
 #include "pipeline/parallel.hpp"
@@ -184,14 +183,8 @@ public:
             results.set("transform", transform_);
             report_noise_in_time(noise, results);
         };
-        // The shot's light level frame by frame is divided out before the stage and multiplied back
-        // after. Not with OIDN run after the stage (high): there it was mixed (cornell_light 4 spp 9%
-        // lower relMSE, camera_pan 16 spp 17% more still-scene jitter; docs/methods.md).
-        const LevelledSource levelled(source, oidn_ ? std::vector<double>(static_cast<size_t>(source.shape().frames), 1.0)
-                                                    : measure_light_levels(source, context.threads));
-        stage_.run(levelled, [&](int64_t f, float* pixels) {
+        stage_.run(source, [&](int64_t f, float* pixels) {
             std::call_once(decided, report);
-            levelled.restore(f, pixels);
             consume(f, pixels);
         }, context, own);
         std::call_once(decided, report);  // a shot of no frames
