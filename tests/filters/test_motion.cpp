@@ -166,11 +166,19 @@ TEST(Auto, PicksByHowMuchMoves) {
     std::unique_ptr<Sequence> clean;
     const std::map<std::string, std::string> refine = {{"postfilter", kRefinePostfilter},
                                                        {"postfilter_params", kRefinePostfilterParams}};
-    const auto still = scene(false, swinging, &clean, 0.3);
+    const auto still = scene(false, steady, &clean, 0.3);
     const FilterRun a = run_filter("auto", *still);
     EXPECT_EQ(a.filter->results().get_string("method"), "pca then diffusion");
     EXPECT_EQ(a.filter->results().get_string("quality"), "balanced");
+    EXPECT_EQ(a.filter->results().get_string("light_levels").rfind("still", 0), 0u);
     EXPECT_EQ(max_abs_diff(*a.output, *run_filter("pca", *still, refine).output), 0.0);
+    // A light that swings is divided out before the method and multiplied back after
+    // (tests/filters/test_light_levels.cpp): then the preset is not the method alone.
+    const auto lit = scene(false, swinging, &clean, 0.3);
+    const FilterRun l = run_filter("auto", *lit);
+    EXPECT_EQ(l.filter->results().get_string("method"), "pca then diffusion");
+    EXPECT_EQ(l.filter->results().get_string("light_levels").rfind("divided out", 0), 0u);
+    EXPECT_NEAR(l.result("light_swing"), 0.35, 0.05);
     const auto moving = scene(true, steady, &clean, 0.3);
     const FilterRun b = run_filter("auto", *moving);
     EXPECT_EQ(b.filter->results().get_string("method"), "hybrid then diffusion");

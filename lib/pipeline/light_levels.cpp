@@ -1,0 +1,146 @@
+#include "pipeline/light_levels.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "pipeline/parallel.hpp"
+
+namespace statfilter {
+namespace {
+
+constexpr int64_t kStripRows = 16, kStripEvery = 128;
+constexpr int kBlocksASide = 8, kBlocks = kBlocksASide * kBlocksASide;
+
+// The mean of the finite samples in each of the frame's blocks (NaN where a block has none).
+std::vector<double> block_means(const FrameSource& source, int64_t f, std::vector<float>& buffer) {
+    const Shape& s = source.shape();
+    const bool every_row = s.height <= 2 * kStripEvery;
+    const int64_t step = every_row ? s.height : kStripEvery, rows = every_row ? s.height : kStripRows;
+    std::vector<double> sum(kBlocks, 0.0), count(kBlocks, 0.0);
+    buffer.resize(static_cast<size_t>(rows * s.width * s.channels));
+    for (int64_t y0 = 0; y0 < s.height; y0 += step) {
+        const int64_t y1 = std::min(s.height, y0 + rows);
+        source.read_rows(f, y0, y1, buffer.data());
+        for (int64_t y = y0; y < y1; ++y) {
+            const int64_t by = y * kBlocksASide / s.height;
+            const float* row = buffer.data() + (y - y0) * s.width * s.channels;
+            for (int64_t x = 0; x < s.width; ++x) {
+                const auto b = static_cast<size_t>(by * kBlocksASide + x * kBlocksASide / s.width);
+                for (int64_t c = 0; c < s.channels; ++c) {
+                    const float v = row[x * s.channels + c];
+                    if (!std::isfinite(v)) continue;
+                    sum[b] += v;
+                    count[b] += 1;
+                }
+            }
+        }
+    }
+    for (size_t b = 0; b < sum.size(); ++b) sum[b] = count[b] > 0 ? sum[b] / count[b] : std::nan("");
+    return sum;
+}
+
+double median(std::vector<double> v) {
+    const size_t mid = v.size() / 2;
+    std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(mid), v.end());
+    if (v.size() % 2) return v[mid];
+    return 0.5 * (v[mid] + *std::max_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(mid)));
+}
+
+}  // namespace
+
+std::vector<double> smooth_light_levels(const std::vector<double>& raw, int half_width) {
+    const auto F = static_cast<int64_t>(raw.size());
+    std::vector<double> out(raw.size());
+    for (int64_t f = 0; f < F; ++f) {
+        const int64_t a = std::max<int64_t>(0, f - half_width), b = std::min<int64_t>(F - 1, f + half_width);
+        // Least squares of c0 + c1 t + c2 t^2 (t = g - f) through the window: the value at t = 0 is c0.
+        double m[3][4] = {};
+        for (int64_t g = a; g <= b; ++g) {
+            const double t = static_cast<double>(g - f), basis[3] = {1, t, t * t};
+            for (int i = 0; i < 3; ++i) {
+                for (int j = 0; j < 3; ++j) m[i][j] += basis[i] * basis[j];
+                m[i][3] += basis[i] * raw[static_cast<size_t>(g)];
+            }
+        }
+        // A window of fewer than 3 frames: a lower degree (the mean, or the line).
+        const int n = static_cast<int>(std::min<int64_t>(3, b - a + 1));
+        for (int col = 0; col < n; ++col) {  // Gauss-Jordan with partial pivoting on the n x n system
+            int pivot = col;
+            for (int r = col + 1; r < n; ++r)
+                if (std::fabs(m[r][col]) > std::fabs(m[pivot][col])) pivot = r;
+            std::swap(m[col], m[pivot]);
+            for (int r = 0; r < n; ++r) {
+                if (r == col || m[col][col] == 0) continue;
+                const double k = m[r][col] / m[col][col];
+                for (int c = col; c < n; ++c) m[r][c] -= k * m[col][c];
+                m[r][3] -= k * m[col][3];
+            }
+        }
+        out[static_cast<size_t>(f)] = m[0][0] != 0 ? m[0][3] / m[0][0] : raw[static_cast<size_t>(f)];
+    }
+    return out;
+}
+
+LightLevels measure_light_levels(const FrameSource& source, int threads) {
+    const Shape& s = source.shape();
+    LightLevels still;
+    still.levels.assign(static_cast<size_t>(std::max<int64_t>(0, s.frames)), 1.0);
+    if (s.frames < 2 || s.pixels() <= 0 || s.channels <= 0) return still;
+    std::vector<std::vector<double>> means(static_cast<size_t>(s.frames));
+    const Progress none;
+    parallel_for(s.frames, threads, [&](int64_t f) {
+        std::vector<float> buffer;
+        means[static_cast<size_t>(f)] = block_means(source, f, buffer);
+    }, {none, 0, 1, "light"});
+    // Each block's mean over the shot; a block black or broken in any frame says nothing of the light.
+    std::vector<double> shot(kBlocks, 0.0);
+    std::vector<size_t> usable;
+    for (size_t b = 0; b < shot.size(); ++b) {
+        bool finite = true;
+        for (const auto& m : means) {
+            finite = finite && std::isfinite(m[b]);
+            shot[b] += m[b] / static_cast<double>(s.frames);
+        }
+        if (finite && std::isfinite(shot[b]) && shot[b] > 0) usable.push_back(b);
+    }
+    if (usable.empty()) return still;
+    std::vector<double> raw(static_cast<size_t>(s.frames)), ratios(usable.size());
+    double total = 0;
+    for (size_t f = 0; f < raw.size(); ++f) {
+        for (size_t i = 0; i < usable.size(); ++i) ratios[i] = means[f][usable[i]] / shot[usable[i]];
+        raw[f] = median(ratios);
+        if (!(raw[f] > 0)) return still;  // a black frame: nothing to divide by
+        total += raw[f];
+    }
+    if (!(total > 0) || !std::isfinite(total)) return still;
+    for (double& r : raw) r *= static_cast<double>(raw.size()) / total;
+    LightLevels out;
+    out.levels = smooth_light_levels(raw, kLightLevelHalfWidth);
+    std::vector<double> off(raw.size());
+    for (size_t f = 0; f < raw.size(); ++f) {
+        if (!(out.levels[f] > 0) || !std::isfinite(out.levels[f])) return still;
+        off[f] = std::fabs(raw[f] - out.levels[f]);
+        out.swing = std::max(out.swing, std::fabs(out.levels[f] - 1));
+    }
+    out.noise = 1.4826 * median(off);
+    out.modelled = out.swing > std::max(kLeastLightSwing, 3 * out.noise);
+    if (!out.modelled) out.levels = still.levels;
+    return out;
+}
+
+void LevelledSource::read_rows(int64_t f, int64_t y0, int64_t y1, float* dst) const {
+    inner_.read_rows(f, y0, y1, dst);
+    const double level = levels_[static_cast<size_t>(f)];
+    if (level == 1.0) return;
+    const int64_t n = (y1 - y0) * inner_.shape().width * inner_.shape().channels;
+    for (int64_t i = 0; i < n; ++i) dst[i] = static_cast<float>(dst[i] / level);
+}
+
+void LevelledSource::restore(int64_t f, float* pixels) const {
+    const double level = levels_[static_cast<size_t>(f)];
+    if (level == 1.0) return;
+    const int64_t n = inner_.shape().pixels() * inner_.shape().channels;
+    for (int64_t i = 0; i < n; ++i) pixels[i] = static_cast<float>(pixels[i] * level);
+}
+
+}  // namespace statfilter

@@ -1,0 +1,56 @@
+// The shot's light level frame by frame, and a source that hands the stages frames at one level.
+// A light that brightens or dims over the shot changes every pixel together; left in, a temporal
+// basis must spend a component on it, with a coefficient per pixel, and on a short or noisy shot the
+// automatic rank drops it (8 frames of cornell_light at 4 spp: rank 0, the light's swing averaged
+// away). Divided out, it is one number a frame, and multiplied back after the stage.
+#pragma once
+#include <vector>
+
+#include "pipeline/frame_source.hpp"
+
+namespace statfilter {
+
+// Frames the level's smoothing fits a quadratic over on each side: the light of a shot changes
+// smoothly; what changes a frame's level from one frame to the next (noise, an object's motion) does
+// not, and multiplied back it would flicker on the still pixels.
+constexpr int kLightLevelHalfWidth = 8;
+
+// The smallest swing of the smoothed level (max |level - 1|) worth modelling. Below it the light is
+// taken as still and nothing is divided: a level off by 1% costs about 1e-4 of relMSE, less than the
+// noise of the level itself on a short shot, and the output stays the named method's, bit for bit.
+constexpr double kLeastLightSwing = 0.01;
+
+struct LightLevels {
+    std::vector<double> levels;  // one a frame, mean 1; all 1 when the light is taken as still
+    double swing = 0;            // max |smoothed level - 1| over the frames
+    double noise = 0;            // robust spread of a frame's raw level about the smoothed one
+    bool modelled = false;       // levels are not all 1
+};
+
+// The frame's level is the median, over 8 x 8 blocks of the frame, of the block's mean over its mean
+// in the whole shot (rows: strips of 16 every 128; every row of a frame up to 256 rows high). A
+// median of blocks, not the frame's mean: a firefly or a moving object changes a few blocks, a light
+// every one. The raw levels are smoothed by a local quadratic over kLightLevelHalfWidth frames a
+// side, and kept only when the swing exceeds both kLeastLightSwing and three times the raw levels'
+// spread about the smoothed ones. Blocks that are black or hold a non-finite mean are left out; with
+// none left, or fewer than two frames, the light is still.
+LightLevels measure_light_levels(const FrameSource& source, int threads);
+
+// The local quadratic fit of raw levels, frame by frame (exposed for the tests).
+std::vector<double> smooth_light_levels(const std::vector<double>& raw, int half_width);
+
+// The frames of `inner` divided by their level (read_rows); `restore` multiplies a finished frame back.
+class LevelledSource final : public FrameSource {
+public:
+    LevelledSource(const FrameSource& inner, std::vector<double> levels) : inner_(inner), levels_(std::move(levels)) {}
+    const Shape& shape() const override { return inner_.shape(); }
+    const Sequence& attributes() const override { return inner_.attributes(); }
+    void read_rows(int64_t f, int64_t y0, int64_t y1, float* dst) const override;
+    void restore(int64_t f, float* pixels) const;
+
+private:
+    const FrameSource& inner_;
+    std::vector<double> levels_;
+};
+
+}  // namespace statfilter

@@ -1,0 +1,159 @@
+// The shot's light level frame by frame (pipeline/light_levels.hpp): the smoothing's known answers,
+// the measurement on a light ramp, black and broken frames, the levelled source's round trip, and
+// balanced keeping a light's swing on a short noisy shot (where the automatic rank drops it).
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+#include <memory>
+#include <random>
+#include <vector>
+
+#include "filter_runner.hpp"
+#include "pipeline/light_levels.hpp"
+
+using namespace statfilter;
+using namespace statfilter::test;
+
+namespace {
+
+constexpr int64_t kW = 48, kH = 40, kC = 3, kF = 8;
+
+double ramp(int64_t f) { return 1.0 + 0.35 * static_cast<double>(f) / (kF - 1); }
+
+// A still picture under a light rising by 35% over the shot, with 4-spp-like gamma noise (or none).
+std::unique_ptr<Sequence> lit_shot(bool noisy) {
+    auto s = std::make_unique<Sequence>(Shape{kF, kH, kW, kC});
+    std::mt19937 rng(11);
+    std::gamma_distribution<double> sample(4.0, 0.25);  // mean 1, 50% deviation
+    for (int64_t f = 0; f < kF; ++f)
+        for (int64_t y = 0; y < kH; ++y)
+            for (int64_t x = 0; x < kW; ++x)
+                for (int64_t c = 0; c < kC; ++c)
+                    s->at(f, y, x, c) = static_cast<float>(ramp(f) * (0.2 + 0.6 * x / kW) * (noisy ? sample(rng) : 1.0));
+    return s;
+}
+
+double frame_mean(const Sequence& s, int64_t f) {
+    double sum = 0;
+    for (int64_t y = 0; y < kH; ++y)
+        for (int64_t x = 0; x < kW; ++x)
+            for (int64_t c = 0; c < kC; ++c) sum += s.at(f, y, x, c);
+    return sum / (kH * kW * kC);
+}
+
+}  // namespace
+
+TEST(LightLevels, TheSmoothingFitsAQuadraticExactly) {
+    std::vector<double> quadratic(20), constant(20, 2.5);
+    for (size_t f = 0; f < quadratic.size(); ++f) quadratic[f] = 1 + 0.1 * f - 0.004 * f * f;
+    const auto q = smooth_light_levels(quadratic, kLightLevelHalfWidth);
+    for (size_t f = 0; f < q.size(); ++f) EXPECT_NEAR(q[f], quadratic[f], 1e-12) << f;
+    for (double v : smooth_light_levels(constant, kLightLevelHalfWidth)) EXPECT_NEAR(v, 2.5, 1e-12);
+    // One and two frames: the mean and the line.
+    EXPECT_NEAR(smooth_light_levels({3.0}, 8)[0], 3.0, 1e-12);
+    const auto two = smooth_light_levels({1.0, 2.0}, 8);
+    EXPECT_NEAR(two[0], 1.0, 1e-12);
+    EXPECT_NEAR(two[1], 2.0, 1e-12);
+    // A frame-to-frame wobble (noise, an object's motion) is smoothed away, not followed.
+    std::vector<double> wobble(32);
+    for (size_t f = 0; f < wobble.size(); ++f) wobble[f] = 1 + (f % 2 ? 0.01 : -0.01);
+    const auto smooth = smooth_light_levels(wobble, kLightLevelHalfWidth);
+    for (size_t f = 0; f < smooth.size(); ++f) {
+        const bool whole_window = f >= kLightLevelHalfWidth && f + kLightLevelHalfWidth < smooth.size();
+        EXPECT_NEAR(smooth[f], 1.0, whole_window ? 0.002 : 0.006) << f;  // one-sided at the ends
+    }
+}
+
+TEST(LightLevels, MeasuresARampAndLeavesBlackAndBrokenShotsAlone) {
+    const auto clean = lit_shot(false);
+    const auto source = memory_source(*clean);
+    const LightLevels light = measure_light_levels(*source, 2);
+    ASSERT_TRUE(light.modelled);
+    const auto& levels = light.levels;
+    double mean_ramp = 0;
+    for (int64_t f = 0; f < kF; ++f) mean_ramp += ramp(f) / kF;
+    for (int64_t f = 0; f < kF; ++f) EXPECT_NEAR(levels[static_cast<size_t>(f)], ramp(f) / mean_ramp, 1e-6) << f;
+    EXPECT_NEAR(light.swing, ramp(kF - 1) / mean_ramp - 1, 1e-6);
+    EXPECT_LT(light.noise, 1e-6);  // float samples
+    // The levelled frames are one level; restore gives the frame back.
+    const LevelledSource levelled(*source, levels);
+    std::vector<float> frame(static_cast<size_t>(kH * kW * kC));
+    levelled.read_rows(kF - 1, 0, kH, frame.data());
+    EXPECT_NEAR(frame[0], clean->at(kF - 1, 0, 0, 0) / (ramp(kF - 1) / mean_ramp), 1e-5);
+    levelled.restore(kF - 1, frame.data());
+    EXPECT_NEAR(frame[5], clean->at(kF - 1, 0, 1, 2), 1e-5);
+    // A black frame: nothing is divided. NaN samples are left out of their block.
+    auto black = lit_shot(false);
+    for (int64_t y = 0; y < kH; ++y)
+        for (int64_t x = 0; x < kW; ++x)
+            for (int64_t c = 0; c < kC; ++c) black->at(3, y, x, c) = 0.0f;
+    const LightLevels dark = measure_light_levels(*memory_source(*black), 1);
+    EXPECT_FALSE(dark.modelled);
+    for (double l : dark.levels) EXPECT_EQ(l, 1.0);
+    auto broken = lit_shot(false);
+    for (int64_t x = 0; x < kW; ++x) broken->at(2, 0, x, 0) = std::numeric_limits<float>::quiet_NaN();
+    broken->at(5, 7, 7, 1) = std::numeric_limits<float>::infinity();
+    const auto some = measure_light_levels(*memory_source(*broken), 1).levels;
+    for (int64_t f = 0; f < kF; ++f) EXPECT_NEAR(some[static_cast<size_t>(f)], levels[static_cast<size_t>(f)], 1e-6) << f;
+    // One frame, and frames smaller than the 8 x 8 blocks: the light is still, or measured.
+    Sequence one(Shape{1, kH, kW, kC});
+    EXPECT_EQ(measure_light_levels(*memory_source(one), 1).levels, std::vector<double>{1.0});
+    Sequence tiny(Shape{kF, 1, 2, 1});
+    for (int64_t f = 0; f < kF; ++f) tiny.at(f, 0, 0, 0) = tiny.at(f, 0, 1, 0) = static_cast<float>(ramp(f));
+    const LightLevels small = measure_light_levels(*memory_source(tiny), 1);
+    EXPECT_TRUE(small.modelled);
+    EXPECT_NEAR(small.levels[0], ramp(0) / mean_ramp, 1e-6);
+}
+
+// The levels are ratios: the units of the input do not change them (1e-6 .. 1e6, and tiny values
+// near the smallest normal float).
+TEST(LightLevels, TheUnitsOfTheInputDoNotChangeThem) {
+    const auto noisy = lit_shot(true);
+    const auto base = measure_light_levels(*memory_source(*noisy), 1);
+    for (double k : {1e-30, 1e-6, 1e6, 1e30}) {
+        Sequence scaled(noisy->shape());
+        for (int64_t f = 0; f < kF; ++f)
+            for (int64_t y = 0; y < kH; ++y)
+                for (int64_t x = 0; x < kW; ++x)
+                    for (int64_t c = 0; c < kC; ++c) scaled.at(f, y, x, c) = static_cast<float>(k * noisy->at(f, y, x, c));
+        const auto light = measure_light_levels(*memory_source(scaled), 1);
+        EXPECT_EQ(light.modelled, base.modelled) << k;
+        for (int64_t f = 0; f < kF; ++f) EXPECT_NEAR(light.levels[static_cast<size_t>(f)], base.levels[static_cast<size_t>(f)], 1e-5) << k;
+    }
+}
+
+// A steady light is left alone, even under heavy noise and with a firefly; a firefly under a
+// changing light does not move the levels (a median of blocks, not a frame's mean).
+TEST(LightLevels, ASteadyLightAndAFireflyAreNotModelled) {
+    auto steady = std::make_unique<Sequence>(Shape{kF, kH, kW, kC});
+    std::mt19937 rng(5);
+    std::gamma_distribution<double> sample(1.0, 1.0);  // 1 spp-like: 100% deviation
+    for (int64_t f = 0; f < kF; ++f)
+        for (int64_t y = 0; y < kH; ++y)
+            for (int64_t x = 0; x < kW; ++x)
+                for (int64_t c = 0; c < kC; ++c) steady->at(f, y, x, c) = static_cast<float>((0.2 + 0.6 * x / kW) * sample(rng));
+    steady->at(4, 10, 10, 0) = 500.0f;
+    const LightLevels still = measure_light_levels(*memory_source(*steady), 1);
+    EXPECT_FALSE(still.modelled) << still.swing << " " << still.noise;
+    for (double l : still.levels) EXPECT_EQ(l, 1.0);
+    auto fired = lit_shot(true);
+    const auto before = measure_light_levels(*memory_source(*fired), 1);
+    for (int64_t c = 0; c < kC; ++c) fired->at(4, 10, 10, c) = 500.0f;
+    const auto after = measure_light_levels(*memory_source(*fired), 1);
+    ASSERT_TRUE(after.modelled);
+    for (int64_t f = 0; f < kF; ++f)
+        EXPECT_NEAR(after.levels[static_cast<size_t>(f)], before.levels[static_cast<size_t>(f)], 0.003) << f;
+}
+
+// 8 noisy frames under a rising light: global PCA's automatic rank keeps no component here, and
+// before the levels the light's swing was averaged away (every frame at the shot's mean light).
+TEST(LightLevels, BalancedKeepsALightsSwingOnAShortNoisyShot) {
+    const auto noisy = lit_shot(true);
+    const FilterRun run = run_filter("auto", *noisy, {{"quality", "balanced"}});
+    EXPECT_EQ(run.filter->results().get_string("method").rfind("pca", 0), 0u);  // a still scene
+    for (int64_t f = 0; f < kF; ++f) {
+        const double truth = frame_mean(*lit_shot(false), f);
+        EXPECT_NEAR(frame_mean(*run.output, f) / truth, 1.0, 0.02) << f;
+    }
+}
