@@ -109,6 +109,17 @@ void report_light_levels(const LightLevels& light, Results& results) {
     results.set("light_levels", text);
 }
 
+// The results of a preset that runs OIDN alone because the noise is the same in every frame.
+void report_oidn_alone(const std::string& quality, const std::string& transform, const NoiseInTime& noise,
+                       Results& results) {
+    results.set("method", "oidn");
+    results.set("reason", "quality " + quality + ": the noise is the same in every frame, which no temporal "
+                          "filter removes: OIDN alone on each frame");
+    results.set("quality", quality);
+    results.set("transform", transform);
+    report_noise_in_time(noise, results);
+}
+
 // The noise-in-time check on the frames a preset's stage is given: the shot as rendered, unless a
 // prefilter ran first (its frames say nothing of the renderer's seed): then not measured.
 NoiseInTime probe_shot(bool noisy_frames, const FrameSource& source) {
@@ -226,12 +237,7 @@ private:
     // stage hands on, denoises each alone (and the trust blend, comparing it with itself, keeps it).
     void pass_frames_to_oidn(const FrameSource& source, const FrameConsumer& consume, const StageContext& context,
                              const NoiseInTime& noise, Results& results) const {
-        results.set("method", "oidn");
-        results.set("reason", "quality " + quality_ + ": the noise is the same in every frame, which no temporal "
-                              "filter removes: OIDN alone on each frame");
-        results.set("quality", quality_);
-        results.set("transform", transform_);
-        report_noise_in_time(noise, results);
+        report_oidn_alone(quality_, transform_, noise, results);
         const Shape& s = source.shape();
         const Progress none;
         parallel_for(s.frames, context.threads, [&](int64_t f) {
@@ -384,12 +390,7 @@ protected:
                 auto oidn = create_filter("oidn");
                 oidn->execute(input, output, progress);
                 if (params().get_int("keep_mean") != 0) keep_prefilter_light(input, output, resolve_threads(0));
-                mutable_results().set("method", "oidn");
-                mutable_results().set("reason", "quality high: the noise is the same in every frame, which no "
-                                                "temporal filter removes: OIDN alone on each frame");
-                mutable_results().set("quality", quality);
-                mutable_results().set("transform", transform);
-                report_noise_in_time(noise, mutable_results());
+                report_oidn_alone(quality, transform, noise, mutable_results());
                 add_stage_results("oidn", oidn->results(), mutable_results());
                 return;
             }

@@ -31,8 +31,7 @@ std::string same_noise_warning(const NoiseInTime& noise) {
     return std::string("the noise is the same in every frame (its change from frame to frame is ") + ratio +
            "x its spread across the frame; independent noise gives about 1): a temporal filter cannot remove it. "
            "Render each frame with its own seed (Cycles: the clock icon beside Sampling > Advanced > Seed), or use a "
-           "single-frame "
-           "denoiser (--method oidn)";
+           "single-frame denoiser (--method oidn)";
 }
 
 }  // namespace statfilter
