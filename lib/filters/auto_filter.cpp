@@ -423,11 +423,36 @@ protected:
         const bool refine = choice.refine && params().get_string("postfilter").empty();
         chosen->params().set_string("postfilter", refine ? kRefinePostfilter : "");
         chosen->params().set_string("postfilter_params", refine ? kRefinePostfilterParams : "");
+        // As the streamed preset: a light that changes over the shot is divided out before the method
+        // and multiplied back after, unless a prefilter runs around it (high's OIDN, the user's).
+        const bool levels_apply = quality != "fast" && choice.prefilter.empty() && params().get_string("prefilter").empty();
+        const auto source = memory_source(input);
+        const LightLevels light = levels_apply ? measure_light_levels(*source, resolve_threads(0)) : LightLevels{};
+        const LevelledSource levelled(*source, light.levels);
+        const Progress quiet;
+        std::unique_ptr<Sequence> levelled_input;
+        if (light.modelled) {
+            levelled_input = std::make_unique<Sequence>(input.shape());
+            levelled_input->copy_attributes_from(input);
+            parallel_for(input.shape().frames, resolve_threads(0), [&](int64_t f) {
+                std::vector<float> frame(static_cast<size_t>(input.shape().pixels() * input.shape().channels));
+                levelled.read_rows(f, 0, input.shape().height, frame.data());
+                levelled_input->set_frame(f, frame.data());
+            }, {quiet, 0, 1, "light"});
+        }
         const double start = alpha ? 0.3 : 0.0;
-        chosen->execute(input, output, Progress([&](double f, const char* stage) {
+        chosen->execute(levelled_input ? *levelled_input : input, output, Progress([&](double f, const char* stage) {
             progress.report(start + (1 - start) * f, stage);
             return true;
         }));
+        if (light.modelled)
+            parallel_for(output.shape().frames, resolve_threads(0), [&](int64_t f) {
+                std::vector<float> frame(static_cast<size_t>(output.shape().pixels() * output.shape().channels));
+                output.get_frame(f, frame.data());
+                levelled.restore(f, frame.data());
+                output.set_frame(f, frame.data());
+            }, {quiet, 0, 1, "light"});
+        if (levels_apply) report_light_levels(light, mutable_results());
         std::string picked = choice.method;
         if (!choice.prefilter.empty())
             picked = prefilter_runs_last(chosen->params()) ? choice.method + " then " + choice.prefilter

@@ -3,7 +3,10 @@
 // balanced keeping a light's swing on a short noisy shot (where the automatic rank drops it).
 #include <gtest/gtest.h>
 
+#include <unistd.h>
+
 #include <cmath>
+#include <filesystem>
 #include <limits>
 #include <memory>
 #include <random>
@@ -11,6 +14,7 @@
 
 #include "filter_runner.hpp"
 #include "pipeline/light_levels.hpp"
+#include "statfilter/sequence_io.hpp"
 
 using namespace statfilter;
 using namespace statfilter::test;
@@ -156,4 +160,28 @@ TEST(LightLevels, BalancedKeepsALightsSwingOnAShortNoisyShot) {
         const double truth = frame_mean(*lit_shot(false), f);
         EXPECT_NEAR(frame_mean(*run.output, f) / truth, 1.0, 0.02) << f;
     }
+}
+
+// Given renderer passes, balanced runs its method on the shot in memory (filters/auto_filter.cpp):
+// the light's level is divided out there too.
+TEST(LightLevels, BalancedWithPassesKeepsTheSwingToo) {
+    const auto noisy = lit_shot(true), clean = lit_shot(false);
+    const auto dir = std::filesystem::temp_directory_path() / ("statfilter-light-" + std::to_string(::getpid()));
+    std::filesystem::create_directories(dir);
+    WriteOptions w;
+    w.half = false;
+    const std::string albedo = (dir / "albedo.####.exr").string();
+    write_sequence(*clean, albedo, w);
+    const FilterRun run = run_filter("auto", *noisy, {{"quality", "balanced"}, {"albedo", albedo}});
+    std::filesystem::remove_all(dir);
+    EXPECT_EQ(run.filter->results().get_string("light_levels").rfind("divided out", 0), 0u);
+    for (int64_t f = 0; f < kF; ++f) EXPECT_NEAR(frame_mean(*run.output, f) / frame_mean(*clean, f), 1.0, 0.02) << f;
+    // A still light: the levels are not used and the run is the same as without them.
+    const auto still = lit_shot(true);
+    for (int64_t f = 0; f < kF; ++f)
+        for (int64_t y = 0; y < kH; ++y)
+            for (int64_t x = 0; x < kW; ++x)
+                for (int64_t c = 0; c < kC; ++c) still->at(f, y, x, c) = static_cast<float>(still->at(f, y, x, c) / ramp(f));
+    const FilterRun flat = run_filter("auto", *still, {{"quality", "balanced"}});
+    EXPECT_EQ(flat.filter->results().get_string("light_levels").rfind("still", 0), 0u);
 }
