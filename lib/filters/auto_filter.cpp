@@ -103,9 +103,13 @@ void report_noise_in_time(const NoiseInTime& noise, Results& results) {
 // and "light_levels": whether the levels were divided out, and why.
 void report_light_levels(const LightLevels& light, Results& results) {
     results.set("light_swing", light.swing);
-    char text[160];
-    std::snprintf(text, sizeof text, "%s: the light swings %.2f%% over the shot (frame-to-frame noise %.2f%%)",
-                  light.modelled ? "divided out" : "still", 100 * light.swing, 100 * light.noise);
+    char text[200];
+    if (light.modelled)
+        std::snprintf(text, sizeof text, "divided out: the light swings %.2f%% over the shot (frame-to-frame spread "
+                      "%.2f%%), followed over +-%d frames", 100 * light.swing, 100 * light.noise, light.half_width);
+    else
+        std::snprintf(text, sizeof text, "still: the light swings %.2f%% over the shot (frame-to-frame spread %.2f%%)",
+                      100 * light.swing, 100 * light.noise);
     results.set("light_levels", text);
 }
 

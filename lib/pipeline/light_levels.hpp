@@ -10,10 +10,13 @@
 
 namespace statfilter {
 
-// Frames the level's smoothing fits a quadratic over on each side: the light of a shot changes
-// smoothly; what changes a frame's level from one frame to the next (noise, an object's motion) does
-// not, and multiplied back it would flicker on the still pixels.
+// Frames the level's smoothing fits a quadratic over on each side when deciding whether the light
+// changes at all: the light of a shot changes smoothly; what changes a frame's level from one frame
+// to the next (noise, an object's motion) does not, and multiplied back it would flicker on the still
+// pixels.
 constexpr int kLightLevelHalfWidth = 8;
+// The half-widths a changing light's levels may be smoothed over (chosen by leave-one-out).
+constexpr int kLightLevelHalfWidths[] = {2, 3, 4, 6, 8, 12, 16};
 
 // The smallest swing of the smoothed level (max |level - 1|) worth modelling. Below it the light is
 // taken as still and nothing is divided: a level off by 1% costs about 1e-4 of relMSE, less than the
@@ -24,20 +27,25 @@ struct LightLevels {
     std::vector<double> levels;  // one a frame, mean 1; all 1 when the light is taken as still
     double swing = 0;            // max |smoothed level - 1| over the frames
     double noise = 0;            // robust spread of a frame's raw level about the smoothed one
+    int half_width = 0;          // frames a side the levels used are smoothed over (0: not modelled)
     bool modelled = false;       // levels are not all 1
 };
 
 // The frame's level is the median, over 8 x 8 blocks of the frame, of the block's mean over its mean
 // in the whole shot (rows: strips of 16 every 128; every row of a frame up to 256 rows high). A
 // median of blocks, not the frame's mean: a firefly or a moving object changes a few blocks, a light
-// every one. The raw levels are smoothed by a local quadratic over kLightLevelHalfWidth frames a
-// side, and kept only when the swing exceeds both kLeastLightSwing and three times the raw levels'
-// spread about the smoothed ones. Blocks that are black or hold a non-finite mean are left out; with
+// every one. The light changes when the raw levels smoothed by a local quadratic over
+// kLightLevelHalfWidth frames a side swing by more than kLeastLightSwing and three times the raw
+// levels' spread about them; then the levels used are the raw ones smoothed over the half-width of
+// kLightLevelHalfWidths that predicts each frame's raw level best from the others (leave-one-out).
+// Blocks that are black or hold a non-finite mean are left out; with
 // none left, or fewer than two frames, the light is still.
 LightLevels measure_light_levels(const FrameSource& source, int threads);
 
-// The local quadratic fit of raw levels, frame by frame (exposed for the tests).
+// The local quadratic fit of raw levels, frame by frame, and the half-width of kLightLevelHalfWidths
+// with the least leave-one-out error (exposed for the tests).
 std::vector<double> smooth_light_levels(const std::vector<double>& raw, int half_width);
+int choose_light_half_width(const std::vector<double>& raw);
 
 // The frames of `inner` divided by their level (read_rows); `restore` multiplies a finished frame back.
 class LevelledSource final : public FrameSource {

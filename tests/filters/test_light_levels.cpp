@@ -185,3 +185,30 @@ TEST(LightLevels, BalancedWithPassesKeepsTheSwingToo) {
     const FilterRun flat = run_filter("auto", *still, {{"quality", "balanced"}});
     EXPECT_EQ(flat.filter->results().get_string("light_levels").rfind("still", 0), 0u);
 }
+
+// The half-width the levels of a changing light are smoothed over follows the data: a light that
+// swings fast (a period of 16 frames) is followed closely; the same swing under heavy noise, over
+// a wider window; and a frame's level is then closer to the truth than the fixed +-8 frames give.
+TEST(LightLevels, TheSmoothingFollowsAFastLightAndAveragesANoisyOne) {
+    std::vector<double> fast(32), noisy(32);
+    std::mt19937 rng(3);
+    std::normal_distribution<double> noise(0.0, 0.03);
+    for (size_t f = 0; f < fast.size(); ++f) {
+        fast[f] = 1 + 0.3 * std::sin(2 * M_PI * static_cast<double>(f) / 16);
+        noisy[f] = 1 + 0.1 * static_cast<double>(f) / 31 + noise(rng);
+    }
+    const int h_fast = choose_light_half_width(fast), h_noisy = choose_light_half_width(noisy);
+    EXPECT_LE(h_fast, 3);
+    EXPECT_GE(h_noisy, 8);
+    const auto chosen = smooth_light_levels(fast, h_fast), fixed = smooth_light_levels(fast, kLightLevelHalfWidth);
+    double chosen_error = 0, fixed_error = 0;
+    for (size_t f = 0; f < fast.size(); ++f) {
+        chosen_error = std::max(chosen_error, std::fabs(chosen[f] - fast[f]));
+        fixed_error = std::max(fixed_error, std::fabs(fixed[f] - fast[f]));
+    }
+    EXPECT_LT(chosen_error, 0.01);
+    EXPECT_GT(fixed_error, 0.05);
+    // Two and three frames: the leave-one-out fits are lines and means; a choice is still made.
+    EXPECT_GT(choose_light_half_width({1.0, 1.2}), 0);
+    EXPECT_GT(choose_light_half_width({1.0, 1.2, 1.1}), 0);
+}
