@@ -216,7 +216,7 @@ public:
         // 9% lower relMSE, camera_pan 16 spp 17% more still-scene jitter; docs/methods.md).
         LightLevels light;
         if (light_levels_) light = measure_light_levels(source, context.threads);
-        const LevelledSource levelled(source, light.levels);
+        const LevelledSource levelled(source, light);
         stage_.run(light.modelled ? static_cast<const FrameSource&>(levelled) : source, [&](int64_t f, float* pixels) {
             std::call_once(decided, report);
             if (light.modelled) levelled.restore(f, pixels);
@@ -432,7 +432,7 @@ protected:
         const bool levels_apply = quality != "fast" && choice.prefilter.empty() && params().get_string("prefilter").empty();
         const auto source = memory_source(input);
         const LightLevels light = levels_apply ? measure_light_levels(*source, resolve_threads(0)) : LightLevels{};
-        const LevelledSource levelled(*source, light.levels);
+        const LevelledSource levelled(*source, light);
         const Progress quiet;
         std::unique_ptr<Sequence> levelled_input;
         if (light.modelled) {

@@ -5,22 +5,23 @@
 #include <limits>
 
 #include "pipeline/parallel.hpp"
+#include "statfilter/sequence_io.hpp"
 
 namespace statfilter {
 namespace {
 
-constexpr int64_t kStripRows = 16, kStripEvery = 128;
+constexpr int64_t kStripRows = 16, kEveryRowUpTo = 256;
 constexpr int kBlocksASide = 8, kBlocks = kBlocksASide * kBlocksASide;
 
-// The mean of the finite samples in each of the frame's blocks (NaN where a block has none).
-std::vector<double> block_means(const FrameSource& source, int64_t f, std::vector<float>& buffer) {
+// The mean of the finite samples of the light channels in each of the frame's blocks (NaN where a
+// block has none). Every row of a frame up to kEveryRowUpTo rows high; above, a strip of kStripRows
+// rows centred in each row of blocks (so every block is read, whatever the height).
+std::vector<double> block_means(const FrameSource& source, const std::vector<uint8_t>& light, int64_t f,
+                                std::vector<float>& buffer) {
     const Shape& s = source.shape();
-    const bool every_row = s.height <= 2 * kStripEvery;
-    const int64_t step = every_row ? s.height : kStripEvery, rows = every_row ? s.height : kStripRows;
     std::vector<double> sum(kBlocks, 0.0), count(kBlocks, 0.0);
-    buffer.resize(static_cast<size_t>(rows * s.width * s.channels));
-    for (int64_t y0 = 0; y0 < s.height; y0 += step) {
-        const int64_t y1 = std::min(s.height, y0 + rows);
+    const auto add_rows = [&](int64_t y0, int64_t y1) {
+        buffer.resize(static_cast<size_t>((y1 - y0) * s.width * s.channels));
         source.read_rows(f, y0, y1, buffer.data());
         for (int64_t y = y0; y < y1; ++y) {
             const int64_t by = y * kBlocksASide / s.height;
@@ -29,11 +30,22 @@ std::vector<double> block_means(const FrameSource& source, int64_t f, std::vecto
                 const auto b = static_cast<size_t>(by * kBlocksASide + x * kBlocksASide / s.width);
                 for (int64_t c = 0; c < s.channels; ++c) {
                     const float v = row[x * s.channels + c];
-                    if (!std::isfinite(v)) continue;
+                    if (!light[static_cast<size_t>(c)] || !std::isfinite(v)) continue;
                     sum[b] += v;
                     count[b] += 1;
                 }
             }
+        }
+    };
+    if (s.height <= kEveryRowUpTo) {
+        add_rows(0, s.height);
+    } else {
+        for (int64_t by = 0; by < kBlocksASide; ++by) {
+            // Rows [first, end) are block row by's (y * 8 / height == by).
+            const int64_t first = (by * s.height + kBlocksASide - 1) / kBlocksASide;
+            const int64_t end = ((by + 1) * s.height + kBlocksASide - 1) / kBlocksASide;
+            const int64_t y0 = std::max(first, (first + end - kStripRows) / 2);
+            add_rows(y0, std::min(end, y0 + kStripRows));
         }
     }
     for (size_t b = 0; b < sum.size(); ++b) sum[b] = count[b] > 0 ? sum[b] / count[b] : std::nan("");
@@ -101,16 +113,26 @@ int choose_light_half_width(const std::vector<double>& raw) {
     return best;
 }
 
+std::vector<uint8_t> light_channels(const std::vector<std::string>& names, int64_t channels) {
+    std::vector<uint8_t> light(static_cast<size_t>(std::max<int64_t>(0, channels)), 1);
+    if (static_cast<int64_t>(names.size()) != channels) return light;
+    bool any = false;
+    for (size_t c = 0; c < light.size(); ++c) any = (light[c] = is_light_channel(names[c]) ? 1 : 0) || any;
+    if (!any) std::fill(light.begin(), light.end(), uint8_t{1});  // no light pass named: every channel
+    return light;
+}
+
 LightLevels measure_light_levels(const FrameSource& source, int threads) {
     const Shape& s = source.shape();
     LightLevels still;
     still.levels.assign(static_cast<size_t>(std::max<int64_t>(0, s.frames)), 1.0);
-    if (s.frames < 2 || s.pixels() <= 0 || s.channels <= 0) return still;
+    still.channels = light_channels(source.attributes().channel_names(), s.channels);
+    if (s.frames < kLeastLightFrames || s.pixels() <= 0 || s.channels <= 0) return still;
     std::vector<std::vector<double>> means(static_cast<size_t>(s.frames));
     const Progress none;
     parallel_for(s.frames, threads, [&](int64_t f) {
         std::vector<float> buffer;
-        means[static_cast<size_t>(f)] = block_means(source, f, buffer);
+        means[static_cast<size_t>(f)] = block_means(source, still.channels, f, buffer);
     }, {none, 0, 1, "light"});
     // Each block's mean over the shot; a block black or broken in any frame says nothing of the light.
     std::vector<double> shot(kBlocks, 0.0);
@@ -136,12 +158,16 @@ LightLevels measure_light_levels(const FrameSource& source, int threads) {
     for (double& r : raw) r *= static_cast<double>(raw.size()) / total;
     // Whether the light changes: the swing of the levels smoothed over kLightLevelHalfWidth frames
     // (wide: noise must not pass for a light), against the raw levels' spread about them.
-    LightLevels out;
+    // The spread is each raw level's distance from the fit of the frames around it without it
+    // (leave-one-out): a fit through the frame itself passes through every level of a short shot,
+    // and its spread of 0 let noise pass for a light.
+    LightLevels out = still;
     out.levels = smooth_light_levels(raw, kLightLevelHalfWidth);
     std::vector<double> off(raw.size());
     for (size_t f = 0; f < raw.size(); ++f) {
         if (!(out.levels[f] > 0) || !std::isfinite(out.levels[f])) return still;
-        off[f] = std::fabs(raw[f] - out.levels[f]);
+        off[f] = std::fabs(raw[f] - local_quadratic_at(raw, static_cast<int64_t>(f), kLightLevelHalfWidth,
+                                                       static_cast<int64_t>(f)));
         out.swing = std::max(out.swing, std::fabs(out.levels[f] - 1));
     }
     out.noise = 1.4826 * median(off);
@@ -165,15 +191,17 @@ void LevelledSource::read_rows(int64_t f, int64_t y0, int64_t y1, float* dst) co
     inner_.read_rows(f, y0, y1, dst);
     const double level = levels_[static_cast<size_t>(f)];
     if (level == 1.0) return;
-    const int64_t n = (y1 - y0) * inner_.shape().width * inner_.shape().channels;
-    for (int64_t i = 0; i < n; ++i) dst[i] = static_cast<float>(dst[i] / level);
+    const int64_t C = inner_.shape().channels, n = (y1 - y0) * inner_.shape().width * C;
+    for (int64_t i = 0; i < n; ++i)
+        if (light_[static_cast<size_t>(i % C)]) dst[i] = static_cast<float>(dst[i] / level);
 }
 
 void LevelledSource::restore(int64_t f, float* pixels) const {
     const double level = levels_[static_cast<size_t>(f)];
     if (level == 1.0) return;
-    const int64_t n = inner_.shape().pixels() * inner_.shape().channels;
-    for (int64_t i = 0; i < n; ++i) pixels[i] = static_cast<float>(pixels[i] * level);
+    const int64_t C = inner_.shape().channels, n = inner_.shape().pixels() * C;
+    for (int64_t i = 0; i < n; ++i)
+        if (light_[static_cast<size_t>(i % C)]) pixels[i] = static_cast<float>(pixels[i] * level);
 }
 
 }  // namespace statfilter

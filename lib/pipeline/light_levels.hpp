@@ -4,6 +4,8 @@
 // automatic rank drops it (8 frames of cornell_light at 4 spp: rank 0, the light's swing averaged
 // away). Divided out, it is one number a frame, and multiplied back after the stage.
 #pragma once
+#include <cstdint>
+#include <string>
 #include <vector>
 
 #include "pipeline/frame_source.hpp"
@@ -23,8 +25,13 @@ constexpr int kLightLevelHalfWidths[] = {2, 3, 4, 6, 8, 12, 16};
 // noise of the level itself on a short shot, and the output stays the named method's, bit for bit.
 constexpr double kLeastLightSwing = 0.01;
 
+// Fewer frames than this say too little of a light to follow it (and a fit over 2 or 3 frames has
+// nothing left to measure its own noise by): the light is taken as still.
+constexpr int64_t kLeastLightFrames = 4;
+
 struct LightLevels {
     std::vector<double> levels;  // one a frame, mean 1; all 1 when the light is taken as still
+    std::vector<uint8_t> channels;  // 1 where the channel is light (measured, divided); data passes 0
     double swing = 0;            // max |smoothed level - 1| over the frames
     double noise = 0;            // robust spread of a frame's raw level about the smoothed one
     int half_width = 0;          // frames a side the levels used are smoothed over (0: not modelled)
@@ -32,14 +39,16 @@ struct LightLevels {
 };
 
 // The frame's level is the median, over 8 x 8 blocks of the frame, of the block's mean over its mean
-// in the whole shot (rows: strips of 16 every 128; every row of a frame up to 256 rows high). A
+// in the whole shot (every row of a frame up to 256 rows high; above, a strip of 16 rows centred in
+// each row of blocks). A
 // median of blocks, not the frame's mean: a firefly or a moving object changes a few blocks, a light
-// every one. The light changes when the raw levels smoothed by a local quadratic over
-// kLightLevelHalfWidth frames a side swing by more than kLeastLightSwing and three times the raw
-// levels' spread about them; then the levels used are the raw ones smoothed over the half-width of
+// every one. Only the light channels count (is_light_channel: not alpha, not a data pass; every
+// channel when none is light or they have no names). The light changes when the raw levels smoothed
+// by a local quadratic over kLightLevelHalfWidth frames a side swing by more than kLeastLightSwing
+// and three times the raw levels' spread about that fit (each left out of its own); then the levels used are the raw ones smoothed over the half-width of
 // kLightLevelHalfWidths that predicts each frame's raw level best from the others (leave-one-out).
 // Blocks that are black or hold a non-finite mean are left out; with
-// none left, or fewer than two frames, the light is still.
+// none left, or fewer than kLeastLightFrames frames, the light is still.
 LightLevels measure_light_levels(const FrameSource& source, int threads);
 
 // The local quadratic fit of raw levels, frame by frame, and the half-width of kLightLevelHalfWidths
@@ -47,10 +56,15 @@ LightLevels measure_light_levels(const FrameSource& source, int threads);
 std::vector<double> smooth_light_levels(const std::vector<double>& raw, int half_width);
 int choose_light_half_width(const std::vector<double>& raw);
 
-// The frames of `inner` divided by their level (read_rows); `restore` multiplies a finished frame back.
+// Which channels are light, by their names (is_light_channel; all when none is, or unnamed).
+std::vector<uint8_t> light_channels(const std::vector<std::string>& names, int64_t channels);
+
+// The light channels of `inner`'s frames divided by their level (read_rows); `restore` multiplies a
+// finished frame back.
 class LevelledSource final : public FrameSource {
 public:
-    LevelledSource(const FrameSource& inner, std::vector<double> levels) : inner_(inner), levels_(std::move(levels)) {}
+    LevelledSource(const FrameSource& inner, const LightLevels& light)
+        : inner_(inner), levels_(light.levels), light_(light.channels) {}
     const Shape& shape() const override { return inner_.shape(); }
     const Sequence& attributes() const override { return inner_.attributes(); }
     void read_rows(int64_t f, int64_t y0, int64_t y1, float* dst) const override;
@@ -59,6 +73,7 @@ public:
 private:
     const FrameSource& inner_;
     std::vector<double> levels_;
+    std::vector<uint8_t> light_;
 };
 
 }  // namespace statfilter
