@@ -319,6 +319,8 @@ public:
         if (picks_oidn()) p.set_string("prefilter", "oidn");
         return p;
     }
+    // In memory (given renderer passes): what the hybrid holds, and the shot divided by its light level.
+    double resident_copies() const override { return stream_stage() ? 2 : 5; }
     Footprint footprint() const override {
         auto stage = stream_stage();
         return stage ? stage->footprint() : Footprint{};
