@@ -213,7 +213,7 @@ public:
         // A light that changes over the shot is divided out before the stage and multiplied back
         // after (pipeline/light_levels.hpp); a still light leaves the stage its source untouched.
         // Not with a prefilter around the stage (high's OIDN): there it was mixed (cornell_light 4 spp
-        // 9% lower relMSE, camera_pan 16 spp 17% more still-scene jitter; docs/methods.md).
+        // 9% lower relMSE, but more still-scene jitter and a worse moving region; docs/methods.md).
         LightLevels light;
         if (light_levels_) light = measure_light_levels(source, context.threads);
         const LevelledSource levelled(source, light);

@@ -91,6 +91,16 @@ double local_quadratic_at(const std::vector<double>& raw, int64_t f, int half_wi
     return n > 0 && m[0][0] != 0 ? m[0][3] / m[0][0] : raw[static_cast<size_t>(f)];
 }
 
+// Each raw level's distance from the fit over +-half_width frames of the others (leave-one-out).
+std::vector<double> left_out_residuals(const std::vector<double>& raw, int half_width) {
+    std::vector<double> out(raw.size());
+    for (size_t f = 0; f < raw.size(); ++f) {
+        const auto t = static_cast<int64_t>(f);
+        out[f] = raw[f] - local_quadratic_at(raw, t, half_width, t);
+    }
+    return out;
+}
+
 }  // namespace
 
 std::vector<double> smooth_light_levels(const std::vector<double>& raw, int half_width) {
@@ -104,10 +114,7 @@ int choose_light_half_width(const std::vector<double>& raw) {
     double best_error = std::numeric_limits<double>::infinity();
     for (const int h : kLightLevelHalfWidths) {
         double error = 0;
-        for (size_t f = 0; f < raw.size(); ++f) {
-            const double d = raw[f] - local_quadratic_at(raw, static_cast<int64_t>(f), h, static_cast<int64_t>(f));
-            error += d * d;
-        }
+        for (double d : left_out_residuals(raw, h)) error += d * d;
         if (error < best_error) best = h, best_error = error;
     }
     return best;
@@ -163,13 +170,12 @@ LightLevels measure_light_levels(const FrameSource& source, int threads) {
     // and its spread of 0 let noise pass for a light.
     LightLevels out = still;
     out.levels = smooth_light_levels(raw, kLightLevelHalfWidth);
-    std::vector<double> off(raw.size());
-    for (size_t f = 0; f < raw.size(); ++f) {
-        if (!(out.levels[f] > 0) || !std::isfinite(out.levels[f])) return still;
-        off[f] = std::fabs(raw[f] - local_quadratic_at(raw, static_cast<int64_t>(f), kLightLevelHalfWidth,
-                                                       static_cast<int64_t>(f)));
-        out.swing = std::max(out.swing, std::fabs(out.levels[f] - 1));
+    for (double l : out.levels) {
+        if (!(l > 0) || !std::isfinite(l)) return still;
+        out.swing = std::max(out.swing, std::fabs(l - 1));
     }
+    std::vector<double> off = left_out_residuals(raw, kLightLevelHalfWidth);
+    for (double& d : off) d = std::fabs(d);
     out.noise = 1.4826 * median(off);
     out.modelled = out.swing > std::max(kLeastLightSwing, 3 * out.noise);
     if (!out.modelled) {

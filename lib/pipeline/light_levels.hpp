@@ -40,15 +40,15 @@ struct LightLevels {
 
 // The frame's level is the median, over 8 x 8 blocks of the frame, of the block's mean over its mean
 // in the whole shot (every row of a frame up to 256 rows high; above, a strip of 16 rows centred in
-// each row of blocks). A
-// median of blocks, not the frame's mean: a firefly or a moving object changes a few blocks, a light
-// every one. Only the light channels count (is_light_channel: not alpha, not a data pass; every
-// channel when none is light or they have no names). The light changes when the raw levels smoothed
-// by a local quadratic over kLightLevelHalfWidth frames a side swing by more than kLeastLightSwing
-// and three times the raw levels' spread about that fit (each left out of its own); then the levels used are the raw ones smoothed over the half-width of
-// kLightLevelHalfWidths that predicts each frame's raw level best from the others (leave-one-out).
-// Blocks that are black or hold a non-finite mean are left out; with
-// none left, or fewer than kLeastLightFrames frames, the light is still.
+// each row of blocks). A median of blocks, not the frame's mean: a firefly or a moving object changes
+// a few blocks, a light every one. Only the light channels count (is_light_channel: not alpha, not a
+// data pass; every channel when none is light or they have no names). The light changes when the
+// raw levels smoothed by a local quadratic over kLightLevelHalfWidth frames a side swing by more
+// than kLeastLightSwing and three times the raw levels' spread about that fit (each left out of its
+// own); then the levels used are the raw ones smoothed over the half-width of kLightLevelHalfWidths
+// that predicts each frame's raw level best from the others (leave-one-out). Blocks that are black
+// or hold a non-finite mean are left out; with none left, or fewer than kLeastLightFrames frames,
+// the light is still.
 LightLevels measure_light_levels(const FrameSource& source, int threads);
 
 // The local quadratic fit of raw levels, frame by frame, and the half-width of kLightLevelHalfWidths
