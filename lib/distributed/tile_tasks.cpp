@@ -163,12 +163,8 @@ void assemble_task(Run& run, const JsonValue& task, int64_t index) {
     const Shape& s = run.context.source->shape();
     const auto attributes = frame_range_attributes(run.context.source->attributes(), f0, f1);
     std::vector<std::pair<int64_t, int64_t>> tiles;  // rows of each tile
-    int64_t first_reconstruct = -1;
     for (const JsonValue& t : member(run.plan, "tasks", "the plan").array())
-        if (t.find("phase")->string() == "reconstruct") {
-            tiles.push_back(range(t, "rows", "task"));
-            if (first_reconstruct < 0) first_reconstruct = integer(t, "index", "task");
-        }
+        if (t.find("phase")->string() == "reconstruct") tiles.push_back(range(t, "rows", "task"));
     // Every tile there before any frame is staged (a task run before the reconstructions fails here).
     for (size_t k = 0; k < tiles.size(); ++k)
         if (!fs::exists(run.work.tile(static_cast<int64_t>(k))))
@@ -196,7 +192,6 @@ void assemble_task(Run& run, const JsonValue& task, int64_t index) {
     sink->commit();
     sink.reset();
     publish(run, staging, *attributes);
-    (void)first_reconstruct;
 }
 
 RunOptions run_options(const Run& run) {
