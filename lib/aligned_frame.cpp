@@ -203,6 +203,13 @@ AlignedAverager::AlignedAverager(const Shape& shape, std::vector<int64_t> pixels
                                  const std::vector<float>* vectors)
     : shape_(shape), pixels_(std::move(pixels)), options_(options), vectors_(vectors && !vectors->empty() ? vectors : nullptr) {}
 
+int flow_finest_scale(int preset_scale, int64_t width, int64_t height) {
+    constexpr int64_t kMinFieldSide = 48;
+    int scale = std::max(0, preset_scale);
+    while (scale > 0 && (std::min(width, height) >> scale) < kMinFieldSide) --scale;
+    return scale;
+}
+
 double AlignedAverager::working_bytes(const Shape& s, int64_t pixels) {
     const double n = static_cast<double>(pixels), P = static_cast<double>(s.pixels());
     // sum (C doubles), weight, where (2 floats), tracked, by_vector, the guide's half-pixel range
@@ -242,6 +249,7 @@ double AlignedAverager::average(int64_t t, const AlignedWindow& window, float* o
     if (!scratch.flow) scratch.flow = std::make_unique<AlignedScratch::Flow>();
     const cv::Ptr<cv::DISOpticalFlow> dis_made = cv::DISOpticalFlow::create(dis_preset(options_.flow));
     cv::DISOpticalFlow& dis = *dis_made;
+    dis.setFinestScale(flow_finest_scale(dis.getFinestScale(), s.width, s.height));
     cv::Mat& flow = scratch.flow->field;
     std::vector<double>& sum = scratch.sum;
     std::vector<double>& weight = scratch.weight;

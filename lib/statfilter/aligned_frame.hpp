@@ -53,6 +53,12 @@ private:
     std::vector<float> in_bin_;
 };
 
+// DIS's finest scale for a frame: the preset's, made finer while the field it computes there would
+// have a short side under 48 pixels (six of DIS's 8-pixel patches), down to the frame itself. On small
+// renders the presets' 1/4-frame field is a few patches across and blurs motion boundaries
+// (docs/methods.md, "The flow's resolution on small frames"); at 1080p the preset's scale stands.
+int flow_finest_scale(int preset_scale, int64_t width, int64_t height);
+
 // One frame's data for the average, contiguous (row, pixel, channel).
 struct AlignedWindow {
     std::function<const float*(int64_t)> values;   // aligned_values

@@ -13,6 +13,7 @@
 #include "filter_runner.hpp"
 #include "moving_scenes.hpp"
 #include "synthetic.hpp"
+#include "statfilter/aligned_frame.hpp"
 #include "statfilter/error.hpp"
 #include "statfilter/motion_compensation.hpp"
 #include "statfilter/sequence_io.hpp"
@@ -116,6 +117,22 @@ TEST(AlignedAverage, KeepsAChangeOfLightTheFirstPassSees) {
     o.sigma = 1e9;  // no check against the first pass: the step smears over the window
     average(lit, lit, passes.get(), out, o);
     EXPECT_GT(interior_mse(out, lit, 2), 1e-2);
+}
+
+// The flow field keeps a short side of 48 pixels or more where the frame allows: a 1080p frame keeps
+// the presets' scales (2 for ultrafast and fast, 1 for medium), a 160 x 120 render is computed at
+// full resolution, and a frame under 48 pixels never goes below scale 0.
+TEST(AlignedAverage, FlowFinestScaleKeepsTheFieldWideEnough) {
+    EXPECT_EQ(flow_finest_scale(2, 1920, 1080), 2);  // 480 x 270
+    EXPECT_EQ(flow_finest_scale(1, 1920, 1080), 1);
+    EXPECT_EQ(flow_finest_scale(2, 3840, 2160), 2);
+    EXPECT_EQ(flow_finest_scale(2, 160, 120), 1);  // 80 x 60; scale 2 would be 40 x 30
+    EXPECT_EQ(flow_finest_scale(2, 120, 160), 1);  // the short side, either way round
+    EXPECT_EQ(flow_finest_scale(2, 100, 60), 0);   // 50 x 30 at 1: too narrow
+    EXPECT_EQ(flow_finest_scale(2, 192, 96), 1);   // 48 exactly is enough
+    EXPECT_EQ(flow_finest_scale(2, 20, 20), 0);
+    EXPECT_EQ(flow_finest_scale(0, 1920, 1080), 0);  // never coarser than asked
+    EXPECT_EQ(flow_finest_scale(-1, 1920, 1080), 0);
 }
 
 TEST(AlignedAverage, Extremes) {
