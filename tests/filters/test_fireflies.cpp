@@ -49,12 +49,13 @@ std::vector<Firefly> fireflies(const Shape& s, bool upper_half_only = false) {
 
 // Runs the method with and without the fireflies (value 500 in every channel: the reference there is
 // ~0.4) and checks them: at the firefly's pixel, no other frame moves by more than 1% of the
-// reference, and the firefly's own frame stays within 25% of the reference of what it gets without
-// it. Without it, that sample is its pixel's temporal median (a typical sample): any sample there
+// reference (with `ordinary`, 1% beyond what the same sample moves them by when it is an ordinary
+// one, half or 1.5 times its typical value), and the firefly's own frame stays within 25% of the
+// reference of what it gets without it. Without it, that sample is its pixel's temporal median (a typical sample): any sample there
 // shapes the pixel's model by ~rank / frames of its own noise, which at 4 spp is several percent,
 // so comparing against the render's own sample would measure that sample, not the firefly.
 void check_fireflies(const Render& r, const std::string& method, const std::map<std::string, std::string>& params,
-                     const std::string& label, bool upper_half_only = false) {
+                     const std::string& label, bool upper_half_only = false, bool ordinary = false) {
     const Shape& s = r.noisy->shape();
     const std::vector<Firefly> placed = fireflies(s, upper_half_only);
     Sequence typical(s), injected(s);
@@ -74,15 +75,32 @@ void check_fireflies(const Render& r, const std::string& method, const std::map<
     for (const Firefly& f : placed)
         for (int64_t c = 0; c < s.channels; ++c) injected.at(f.frame, f.y, f.x, c) = 500.0f;
     const FilterRun base = run_filter(method, typical, params), hit = run_filter(method, injected, params);
+    // Where the method averages a pixel over aligned frames (the hybrid's moving region), any one sample
+    // is one of the ~9 it weighs: a sample half its typical value moves the other frames there by a few
+    // percent (measured at fast_ball 128,90 with the flow at full resolution: 2.6-6%), and the value the
+    // firefly pass puts back is no closer to the typical one than that. What counts is the firefly's
+    // brightness reaching them, which would be hundreds of times the reference.
+    std::vector<FilterRun> usual;
+    if (ordinary)
+        for (const float factor : {0.5f, 1.5f}) {
+            Sequence changed(s);
+            changed.copy_samples_from(typical);
+            changed.frame_numbers() = typical.frame_numbers();
+            changed.channel_names() = typical.channel_names();
+            for (const Firefly& f : placed)
+                for (int64_t c = 0; c < s.channels; ++c) changed.at(f.frame, f.y, f.x, c) *= factor;
+            usual.push_back(run_filter(method, changed, params));
+        }
     for (const Firefly& ff : placed)
         for (int64_t c = 0; c < s.channels; ++c) {
-            double worst = 0;
+            double worst = 0, allowed = 0.01;
             for (int64_t f = 0; f < s.frames; ++f) {
                 if (f == ff.frame) continue;
-                const double d = std::fabs(hit.output->at(f, ff.y, ff.x, c) - base.output->at(f, ff.y, ff.x, c));
-                worst = std::max(worst, d / std::max(1e-3f, r.ref->at(f, ff.y, ff.x, c)));
+                const double ref = std::max(1e-3f, r.ref->at(f, ff.y, ff.x, c)), b = base.output->at(f, ff.y, ff.x, c);
+                worst = std::max(worst, std::fabs(hit.output->at(f, ff.y, ff.x, c) - b) / ref);
+                for (const FilterRun& u : usual) allowed = std::max(allowed, 0.01 + std::fabs(u.output->at(f, ff.y, ff.x, c) - b) / ref);
             }
-            EXPECT_LE(worst, 0.01) << label << " " << method << " pixel " << ff.x << "," << ff.y;
+            EXPECT_LE(worst, allowed) << label << " " << method << " pixel " << ff.x << "," << ff.y;
             const double own = hit.output->at(ff.frame, ff.y, ff.x, c), without = base.output->at(ff.frame, ff.y, ff.x, c);
             EXPECT_LE(std::fabs(own - without), 0.25 * r.ref->at(ff.frame, ff.y, ff.x, c) + 1e-3)
                 << label << " " << method << " firefly frame at " << ff.x << "," << ff.y << ": " << own;
@@ -151,7 +169,7 @@ TEST(Fireflies, DoNotSpreadWhereTheHybridAlignsFrames) {
     if (!std::filesystem::exists(kShared)) return;
     for (const auto& entry : std::filesystem::directory_iterator(kShared)) {
         const Render shot = read_render(entry.path(), "spp0004");
-        if (shot.noisy) check_fireflies(shot, "auto", {{"quality", "balanced"}}, entry.path().filename().string());
+        if (shot.noisy) check_fireflies(shot, "auto", {{"quality", "balanced"}}, entry.path().filename().string(), false, true);
     }
 }
 
