@@ -141,16 +141,23 @@ LightLevels measure_light_levels(const FrameSource& source, int threads) {
         std::vector<float> buffer;
         means[static_cast<size_t>(f)] = block_means(source, still.channels, f, buffer);
     }, {none, 0, 1, "light"});
-    // Each block's mean over the shot; a block black or broken in any frame says nothing of the light.
-    std::vector<double> shot(kBlocks, 0.0);
+    // Each block's typical level over the shot: the median of its frames' means, not their mean. A
+    // firefly of 500 in a 20 x 15 block of 32 frames raised that block's mean over the shot by 13%, so
+    // its ratio fell in every frame, the median block of every frame changed, and five fireflies on
+    // cornell_light changed the light's smoothing from +-6 to +-4 frames: every pixel of the shot
+    // moved by up to 0.9% of the reference. A block black or broken in any frame says nothing of the
+    // light.
+    std::vector<double> shot(kBlocks, 0.0), column(means.size());
     std::vector<size_t> usable;
     for (size_t b = 0; b < shot.size(); ++b) {
         bool finite = true;
-        for (const auto& m : means) {
-            finite = finite && std::isfinite(m[b]);
-            shot[b] += m[b] / static_cast<double>(s.frames);
+        for (size_t f = 0; f < means.size(); ++f) {
+            finite = finite && std::isfinite(means[f][b]);
+            column[f] = means[f][b];
         }
-        if (finite && std::isfinite(shot[b]) && shot[b] > 0) usable.push_back(b);
+        if (!finite) continue;
+        shot[b] = median(column);
+        if (shot[b] > 0) usable.push_back(b);
     }
     if (usable.empty()) return still;
     std::vector<double> raw(static_cast<size_t>(s.frames)), ratios(usable.size());

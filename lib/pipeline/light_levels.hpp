@@ -38,8 +38,8 @@ struct LightLevels {
     bool modelled = false;       // levels are not all 1
 };
 
-// The frame's level is the median, over 8 x 8 blocks of the frame, of the block's mean over its mean
-// in the whole shot (every row of a frame up to 256 rows high; above, a strip of 16 rows centred in
+// The frame's level is the median, over 8 x 8 blocks of the frame, of the block's mean over its median
+// over the shot's frames (every row of a frame up to 256 rows high; above, a strip of 16 rows centred in
 // each row of blocks). A median of blocks, not the frame's mean: a firefly or a moving object changes
 // a few blocks, a light every one. Only the light channels count (is_light_channel: not alpha, not a
 // data pass; every channel when none is light or they have no names). The light changes when the

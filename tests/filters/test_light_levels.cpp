@@ -5,6 +5,7 @@
 
 #include <unistd.h>
 
+#include <array>
 #include <cmath>
 #include <filesystem>
 #include <limits>
@@ -283,4 +284,44 @@ TEST(LightLevels, EveryBlockEveryLightChannelAndNoBlockLostToANaN) {
     ASSERT_TRUE(after.modelled);
     for (int64_t f = 0; f < kF; ++f)
         EXPECT_NEAR(after.levels[static_cast<size_t>(f)], before.levels[static_cast<size_t>(f)], 2e-3) << f;
+}
+
+// Fireflies do not reach the frames they are not in. Each block's level over the shot is the median
+// of its frames, not their mean: with the mean, a firefly lowered its block's ratio in every frame,
+// the median block of every frame changed, and five fireflies on cornell_light (4 spp) changed the
+// light's smoothing from +-6 to +-4 frames, moving every pixel of the shot by up to 0.9% of the
+// reference. Here a 32-frame shot under a swinging light, blocks of 4 x 3 pixels (a firefly of 500
+// in one frame raises its block's mean over the shot several-fold), over several noise seeds.
+TEST(LightLevels, FirefliesDoNotMoveTheOtherFramesLevels) {
+    constexpr int64_t F = 32, H = 24, W = 32, C = 3;
+    const std::vector<std::array<int64_t, 3>> fireflies = {{3, 2, 5}, {9, 11, 17}, {16, 6, 25}, {20, 18, 9}, {27, 21, 29}};
+    int changed_width = 0;
+    double worst = 0;
+    for (unsigned seed = 0; seed < 8; ++seed) {
+        std::mt19937 rng(seed);
+        std::gamma_distribution<double> sample(4.0, 0.25);
+        Sequence shot(Shape{F, H, W, C});
+        for (int64_t f = 0; f < F; ++f)
+            for (int64_t y = 0; y < H; ++y)
+                for (int64_t x = 0; x < W; ++x)
+                    for (int64_t c = 0; c < C; ++c)
+                        shot.at(f, y, x, c) = static_cast<float>((1 + 0.3 * std::sin(2 * M_PI * f / 32.0)) *
+                                                                 (0.2 + 0.6 * x / W) * sample(rng));
+        const LightLevels before = measure_light_levels(*memory_source(shot), 1);
+        for (const auto& [f, y, x] : fireflies)
+            for (int64_t c = 0; c < C; ++c) shot.at(f, y, x, c) = 500.0f;
+        const LightLevels after = measure_light_levels(*memory_source(shot), 1);
+        ASSERT_TRUE(before.modelled && after.modelled) << seed;
+        changed_width += before.half_width != after.half_width ? 1 : 0;
+        for (int64_t f = 0; f < F; ++f) {
+            bool lit = false;
+            for (const auto& ff : fireflies) lit = lit || ff[0] == f;
+            if (!lit) worst = std::max(worst, std::fabs(after.levels[f] / before.levels[f] - 1));
+        }
+    }
+    // With each block's mean over the shot: the smoothing changed in 6 of the 8 seeds and a level by
+    // up to 1.9%. With its median: none, and 0.39% at most (a firefly's own block still changes sides
+    // of its frame's median, and the smoothing carries that to its neighbours).
+    EXPECT_EQ(changed_width, 0);
+    EXPECT_LT(worst, 0.008);
 }
