@@ -58,10 +58,14 @@ void check_fireflies(const Render& r, const std::string& method, const std::map<
                      const std::string& label, bool upper_half_only = false, bool ordinary = false) {
     const Shape& s = r.noisy->shape();
     const std::vector<Firefly> placed = fireflies(s, upper_half_only);
+    // `to` becomes a copy of `from` with its frame numbers and channel names (the filters read the names).
+    const auto copy = [](const Sequence& from, Sequence& to) {
+        to.copy_samples_from(from);
+        to.frame_numbers() = from.frame_numbers();
+        to.channel_names() = from.channel_names();
+    };
     Sequence typical(s), injected(s);
-    typical.copy_samples_from(*r.noisy);
-    typical.frame_numbers() = r.noisy->frame_numbers();
-    typical.channel_names() = r.noisy->channel_names();
+    copy(*r.noisy, typical);
     std::vector<float> series(static_cast<size_t>(s.frames));
     for (const Firefly& f : placed)
         for (int64_t c = 0; c < s.channels; ++c) {
@@ -69,9 +73,7 @@ void check_fireflies(const Render& r, const std::string& method, const std::map<
             std::nth_element(series.begin(), series.begin() + s.frames / 2, series.end());
             typical.at(f.frame, f.y, f.x, c) = series[s.frames / 2];
         }
-    injected.copy_samples_from(typical);
-    injected.frame_numbers() = typical.frame_numbers();
-    injected.channel_names() = typical.channel_names();
+    copy(typical, injected);
     for (const Firefly& f : placed)
         for (int64_t c = 0; c < s.channels; ++c) injected.at(f.frame, f.y, f.x, c) = 500.0f;
     const FilterRun base = run_filter(method, typical, params), hit = run_filter(method, injected, params);
@@ -84,9 +86,7 @@ void check_fireflies(const Render& r, const std::string& method, const std::map<
     if (ordinary)
         for (const float factor : {0.5f, 1.5f}) {
             Sequence changed(s);
-            changed.copy_samples_from(typical);
-            changed.frame_numbers() = typical.frame_numbers();
-            changed.channel_names() = typical.channel_names();
+            copy(typical, changed);
             for (const Firefly& f : placed)
                 for (int64_t c = 0; c < s.channels; ++c) changed.at(f.frame, f.y, f.x, c) *= factor;
             usual.push_back(run_filter(method, changed, params));
