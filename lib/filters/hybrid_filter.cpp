@@ -192,14 +192,17 @@ private:
         if (own.never()) return 0.0;
         std::vector<int64_t> counts(static_cast<size_t>(s.frames), 0);
         const Progress none;
-        parallel_for(s.frames, resolve_threads(0), [&](int64_t f) {
+        const int threads = resolve_threads(0);
+        std::vector<DiffusionWorkspace> workspaces(static_cast<size_t>(worker_count(s.frames, threads)));
+        parallel_for_workers(s.frames, threads, [&](int64_t f, int worker) {
             std::vector<float> frame(static_cast<size_t>(P * C)), temporal(frame.size());  // views may be strided
             for (int64_t p = 0; p < P; ++p)
                 for (int64_t c = 0; c < C; ++c) {
                     frame[static_cast<size_t>(p * C + c)] = input.at(f, p / s.width, p % s.width, c);
                     temporal[static_cast<size_t>(p * C + c)] = model.at(f, p / s.width, p % s.width, c);
                 }
-            counts[static_cast<size_t>(f)] = own.apply(f, frame.data(), temporal.data(), &first_pass.at(f, 0, 0, 0));
+            counts[static_cast<size_t>(f)] = own.apply(f, frame.data(), temporal.data(), &first_pass.at(f, 0, 0, 0),
+                                                   workspaces[static_cast<size_t>(worker)]);
         }, {none});
         double share = 0;
         for (const int64_t n : counts) share += static_cast<double>(n) / static_cast<double>(s.frames * P);

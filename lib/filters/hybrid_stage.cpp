@@ -15,6 +15,7 @@
 #include "pipeline/frame_stage_pool.hpp"
 #include "pipeline/parallel.hpp"
 #include "pipeline/scratch_frames.hpp"
+#include "pipeline/workspace_pool.hpp"
 #include "statfilter/aligned_frame.hpp"
 #include "statfilter/anisotropic_diffusion.hpp"
 #include "statfilter/filter_registry.hpp"
@@ -109,8 +110,8 @@ double HybridStage::maps_bytes(const Shape& s) {
 
 double HybridStage::first_pass_bytes(const Shape& s, int threads, bool keep) const {
     // Per thread while I_T is rebuilt: the first pass' copy of the frame, the noisy frame diffused on
-    // its own, a diffusion's working set (two when the light pass keeps its own from frame to frame
-    // beside the frame's own diffusion) and the own first pass' test of I_T.
+    // its own, a diffusion's working set (two when kept from frame to frame: the light pass's and the
+    // frame's own diffusion's) and the own first pass' test of I_T.
     const double frame = static_cast<double>(s.pixels()) * s.channels * sizeof(float);
     const double diffusions = (keep ? 2 : 1) * diffusion_working_bytes(s.pixels(), s.channels);
     return threads * (2 * frame + diffusions + OwnFirstPass::working_bytes(s));
@@ -300,14 +301,24 @@ void HybridStage::run(const FrameSource& source, const FrameConsumer& consume, c
     const bool keep_rebuild = rebuild_bytes(s, inner.threads, true) <= ctx.budget_bytes;
     refine.keep_buffers(keep_rebuild);
     inner.budget_bytes = ctx.budget_bytes - maps_bytes(s) - first_pass_bytes(s, inner.threads, keep_rebuild);
+    // The frames and the own diffusion's buffers of each thread, kept the same way (first_pass_bytes).
+    struct RebuildScratch {
+        std::vector<float> estimate, own;
+        DiffusionWorkspace diffusion;
+    };
+    WorkspacePool<RebuildScratch> rebuild_scratch;
+    rebuild_scratch.keep(keep_rebuild);
     temporal.reconstruct(source, std::move(stats), [&](int64_t t, float* pixels) {
         temporal_frames.write_frame(t, pixels);
-        std::vector<float> estimate(pixels, pixels + frame_samples);
+        auto scratch = rebuild_scratch.borrow();
+        std::vector<float>& estimate = scratch->estimate;
+        estimate.assign(pixels, pixels + frame_samples);
         refine.apply(t, estimate.data(), s, source.attributes());
         if (!own_first.never()) {
-            std::vector<float> own(static_cast<size_t>(frame_samples));
-            read_input(t, own.data());
-            own_counts[static_cast<size_t>(t)] = own_first.apply(t, own.data(), pixels, estimate.data());
+            std::vector<float>& own = scratch->own;
+            own.resize(static_cast<size_t>(frame_samples));
+            read_input(t, own.data());  // every row
+            own_counts[static_cast<size_t>(t)] = own_first.apply(t, own.data(), pixels, estimate.data(), scratch->diffusion);
         }
         sums[static_cast<size_t>(t)] = positive_sum(estimate.data(), frame_samples);
         double level = 0;
@@ -321,6 +332,7 @@ void HybridStage::run(const FrameSource& source, const FrameConsumer& consume, c
         first_pass.write_frame(t, estimate.data());
     }, inner, own);
     refine.release();  // the rebuild's threads' buffers; the window counts its own (window_bytes)
+    rebuild_scratch.release();
     for (const char* name : {"rank", "mean_rank"})
         if (own.has(name)) results.copy(own, name, std::string("temporal_") + name);
 

@@ -22,7 +22,8 @@ double OwnFirstPass::working_bytes(const Shape& s) {
     return static_cast<double>(s.pixels()) * (3 * sizeof(float) + 1 + sizeof(float) + sizeof(int64_t));
 }
 
-int64_t OwnFirstPass::apply(int64_t f, float* frame, const float* model, float* first_pass) const {
+int64_t OwnFirstPass::apply(int64_t f, float* frame, const float* model, float* first_pass,
+                            DiffusionWorkspace& workspace) const {
     const int64_t W = shape_.width, C = shape_.channels, P = shape_.pixels();
     // The crossings alone, or with this frame's brief events that I_T misses.
     const std::vector<float>* weight = &crossings_;
@@ -39,7 +40,7 @@ int64_t OwnFirstPass::apply(int64_t f, float* frame, const float* model, float* 
         weight = &frame_weight, pixels = &frame_pixels;
     }
     if (pixels->empty()) return 0;
-    diffuse_region(frame, W, shape_.height, C, crossing_box(*pixels, W), diffusion_);
+    diffuse_region(frame, W, shape_.height, C, crossing_box(*pixels, W), diffusion_, workspace);
     blend_own_first_pass(*pixels, *weight, frame, C, first_pass);
     return static_cast<int64_t>(pixels->size());
 }

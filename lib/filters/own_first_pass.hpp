@@ -24,8 +24,9 @@ public:
     OwnFirstPass(const Shape& shape, std::vector<float> crossings, const TemporalChange* change,
                  const std::vector<uint8_t>& moving, int64_t half_width, DiffusionOptions diffusion);
     // Frame f: `frame` is the noisy frame (fireflies replaced; diffused here, in place, where needed),
-    // `model` I_T, `first_pass` blended. Returns the number of pixels given their own diffusion.
-    int64_t apply(int64_t f, float* frame, const float* model, float* first_pass) const;
+    // `model` I_T, `first_pass` blended; `workspace` the diffusion's buffers (a caller that does frame
+    // after frame keeps them). Returns the number of pixels given their own diffusion.
+    int64_t apply(int64_t f, float* frame, const float* model, float* first_pass, DiffusionWorkspace& workspace) const;
     // No pixel in any frame.
     bool never() const { return crossing_pixels_.empty() && brief_pixels_ == 0; }
     // Bytes per thread while apply runs, beyond the two frames it is handed.
