@@ -73,9 +73,10 @@ void Filter::execute(const Sequence& input, Sequence& output, const Progress& pr
         target = filtered.get();
     }
     run(*source, *target, slice(progress, pre_span, 1 - pre_span - post_span));
-    if (last) {  // the prefilter on the temporal result (which keeps the noisy shot's light)
+    if (last) {  // the prefilter on the temporal result, scaled back to its light (the noisy shot's)
         FrameStagePool pool("prefilter", stages);
-        filter_frames(pool, *target, *noisy, resolve_threads(0), {progress, 1 - post_span, post_span, "prefilter"});
+        filter_frames(pool, *target, *noisy, resolve_threads(0), {progress, 1 - post_span, post_span, "prefilter"},
+                      keeps_prefilter_light(stages));
         pool.add_results(results_);
     }
     if (trust) results_.set("prefilter_trust.share", blend_toward_prefilter(*trust, *noisy, *prefiltered, *target, resolve_threads(0)));

@@ -23,7 +23,8 @@ std::vector<ParamSpec> temporal_common_params() {
         int_param("keep_mean", "1", 0, 1,
                   "1: the inverse transform keeps each series' linear mean (no Jensen bias) and a series "
                   "without negative samples non-negative, and a prefilter's output is scaled to the noisy shot's "
-                  "light per channel; 0: the plain inverse, the prefilter as it is"),
+                  "light per channel (run last, to the light of the temporal result it is given); 0: the plain "
+                  "inverse, the prefilter as it is"),
         choice_param("nonfinite", "error", {"error", "repair"},
                      "NaN/Inf input: fail naming the sample, or replace by the series' finite mean and count"),
         int_param("shared_basis", "1", 0, 1, "1: all channels share one temporal basis; 0: one basis per channel"),

@@ -98,13 +98,13 @@ void Filter::execute(const FrameSource& source, FrameSink& sink, const RunOption
         std::unique_ptr<TimeTrust> trust;
         double start = 0;
         const auto samples = static_cast<size_t>(s.pixels() * s.channels);
+        const Shape one{1, s.height, s.width, s.channels};
         if (prefilter_first) {
             // The temporal passes read bands of every prefiltered frame twice: park them on disk (run
             // last, the trust blend reads them back).
             start = 0.3;
             scratch = std::make_unique<ScratchFrames>(s, source.attributes());
             if (trusting) trust = std::make_unique<TimeTrust>(s, time_trust_options(stages));
-            const Shape one{1, s.height, s.width, s.channels};
             std::vector<std::vector<double>> noisy_light(static_cast<size_t>(s.frames)), filtered_light(noisy_light.size());
             parallel_for(s.frames, threads, [&](int64_t f) {
                 std::vector<float> frame(samples), noisy;
@@ -121,9 +121,13 @@ void Filter::execute(const FrameSource& source, FrameSink& sink, const RunOption
             if (keeps_prefilter_light(stages)) scratch->set_gain(light_gain(noisy_light, filtered_light));
             if (!last) input = scratch.get();
         }
-        // With the trust blend the temporal frames wait on disk until every frame's fit is known.
+        // With the trust blend the temporal frames wait on disk until every frame's fit is known; a
+        // prefilter run last waits there too when its frames are scaled back to the light they had
+        // (one gain per channel over the shot, known once every frame is through).
+        const bool last_light = last && keeps_prefilter_light(stages);
+        std::vector<std::vector<double>> before_last(last_light ? static_cast<size_t>(s.frames) : 0), after_last(before_last.size());
         std::unique_ptr<ScratchFrames> temporal;
-        if (trust) temporal = std::make_unique<ScratchFrames>(s, source.attributes());
+        if (trust || last_light) temporal = std::make_unique<ScratchFrames>(s, source.attributes());
         const Progress stage_progress([&](double fraction, const char* name) {
             progress.report(start + (1 - start) * fraction, name);
             return true;
@@ -135,12 +139,10 @@ void Filter::execute(const FrameSource& source, FrameSink& sink, const RunOption
         // What a preset picked is known before its first frame is handed on: the frames say so.
         std::once_flag provenance;
         stage->run(*input, [&](int64_t f, float* pixels) {
+            if (last_light) before_last[static_cast<size_t>(f)] = channel_sums(pixels, one);
             if (last) prefilter->apply(f, pixels, s, source.attributes());
-            if (trust) {
-                std::vector<float> noisy(samples), prefiltered(samples);
-                source.read_rows(f, 0, s.height, noisy.data());
-                scratch->read_rows(f, 0, s.height, prefiltered.data());
-                trust->measure(f, noisy.data(), prefiltered.data(), pixels);
+            if (last_light) after_last[static_cast<size_t>(f)] = channel_sums(pixels, one);
+            if (temporal) {
                 temporal->write_frame(f, pixels);
                 return;
             }
@@ -148,20 +150,36 @@ void Filter::execute(const FrameSource& source, FrameSink& sink, const RunOption
             if (post) postfilter->apply(f, pixels, s, source.attributes());
             sink.write_frame(f, pixels);
         }, context, results_);
-        if (trust) {  // back towards the prefiltered frames where the noisy frames do not support the change
+        if (temporal) {
+            if (last_light) temporal->set_gain(light_gain(before_last, after_last));
+            // The fit is measured on the frames as they will be blended (scaled), as in memory.
+            if (trust)
+                parallel_for(s.frames, threads, [&](int64_t f) {
+                    std::vector<float> noisy(samples), prefiltered(samples), pixels(samples);
+                    source.read_rows(f, 0, s.height, noisy.data());
+                    scratch->read_rows(f, 0, s.height, prefiltered.data());
+                    temporal->read_rows(f, 0, s.height, pixels.data());
+                    trust->measure(f, noisy.data(), prefiltered.data(), pixels.data());
+                }, {progress, 0.95, 0.025, "blend"});
+            // Back towards the prefiltered frames where the noisy frames do not support the change.
             std::vector<double> share(static_cast<size_t>(s.frames), 1.0);
             parallel_for(s.frames, threads, [&](int64_t f) {
-                std::vector<float> prefiltered(samples), pixels(samples);
-                scratch->read_rows(f, 0, s.height, prefiltered.data());
+                std::vector<float> prefiltered, pixels(samples);
                 temporal->read_rows(f, 0, s.height, pixels.data());
-                share[static_cast<size_t>(f)] = trust->blend(f, prefiltered.data(), pixels.data());
+                if (trust) {
+                    prefiltered.resize(samples);
+                    scratch->read_rows(f, 0, s.height, prefiltered.data());
+                    share[static_cast<size_t>(f)] = trust->blend(f, prefiltered.data(), pixels.data());
+                }
                 std::call_once(provenance, [&] { set_provenance(sink); });
                 if (post) postfilter->apply(f, pixels.data(), s, source.attributes());
                 sink.write_frame(f, pixels.data());
-            }, {progress, 0.95, 0.05, "blend"});
-            double mean = 0;
-            for (double v : share) mean += v;
-            results_.set("prefilter_trust.share", s.frames > 0 ? mean / static_cast<double>(s.frames) : 1.0);
+            }, {progress, 0.975, 0.025, trust ? "blend" : "write"});
+            if (trust) {
+                double mean = 0;
+                for (double v : share) mean += v;
+                results_.set("prefilter_trust.share", s.frames > 0 ? mean / static_cast<double>(s.frames) : 1.0);
+            }
         }
     } else {
         // The whole shot in memory: input, output, the filter's own copies, and the stages' outputs.

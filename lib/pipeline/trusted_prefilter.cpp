@@ -22,14 +22,29 @@ void prefilter_and_probe(FrameStagePool& prefilter, const Sequence& noisy, Seque
 }
 
 void filter_frames(FrameStagePool& filter, Sequence& frames, const Sequence& attributes, int threads,
-                   const ProgressSpan& progress) {
+                   const ProgressSpan& progress, bool keep_light) {
     const Shape& s = frames.shape();
+    const Shape one{1, s.height, s.width, s.channels};
+    std::vector<std::vector<double>> before(static_cast<size_t>(s.frames)), after(before.size());
     parallel_for(s.frames, threads, [&](int64_t f) {
         std::vector<float> x(static_cast<size_t>(s.pixels() * s.channels));
         frames.get_frame(f, x.data());
+        if (keep_light) before[static_cast<size_t>(f)] = channel_sums(x.data(), one);
         filter.apply(f, x.data(), s, attributes);
+        if (keep_light) after[static_cast<size_t>(f)] = channel_sums(x.data(), one);
         frames.set_frame(f, x.data());
     }, progress);
+    if (keep_light) scale_channels(frames, light_gain(before, after), threads);
+}
+
+void scale_channels(Sequence& frames, const std::vector<float>& gain, int threads) {
+    const Shape& s = frames.shape();
+    const Progress none;
+    parallel_for(s.frames, threads, [&](int64_t f) {
+        for (int64_t y = 0; y < s.height; ++y)
+            for (int64_t x = 0; x < s.width; ++x)
+                for (int64_t c = 0; c < s.channels; ++c) frames.at(f, y, x, c) *= gain[static_cast<size_t>(c)];
+    }, ProgressSpan{none, 0, 1, "light"});
 }
 
 std::vector<double> channel_sums(const float* frame, const Shape& shape) {
@@ -69,12 +84,7 @@ void keep_prefilter_light(const Sequence& noisy, Sequence& prefiltered, int thre
         prefiltered.get_frame(f, x.data());
         b[static_cast<size_t>(f)] = channel_sums(x.data(), frame);
     }, ProgressSpan{none, 0, 1, "light"});
-    const std::vector<float> gain = light_gain(a, b);
-    parallel_for(s.frames, threads, [&](int64_t f) {
-        for (int64_t y = 0; y < s.height; ++y)
-            for (int64_t x = 0; x < s.width; ++x)
-                for (int64_t c = 0; c < s.channels; ++c) prefiltered.at(f, y, x, c) *= gain[static_cast<size_t>(c)];
-    }, ProgressSpan{none, 0, 1, "light"});
+    scale_channels(prefiltered, light_gain(a, b), threads);
 }
 
 double blend_toward_prefilter(TimeTrust& trust, const Sequence& noisy, const Sequence& prefiltered, Sequence& result,
