@@ -53,6 +53,9 @@ void Filter::execute(const Sequence& input, Sequence& output, const Progress& pr
         source = repaired.get();
     }
     const Sequence* noisy = source;
+    // nonfinite=error: a NaN fails naming the sample and the remedy before the prefilter meets it.
+    if (prefilter_first && stages.has("nonfinite") && stages.get_string("nonfinite") == "error")
+        check_nonfinite(*source, NonFinitePolicy::Error);
     std::unique_ptr<TimeTrust> trust;
     if (prefilter_first) {  // the stage's execute gives it input's attributes
         prefiltered = std::make_unique<Sequence>(input.shape());

@@ -14,6 +14,7 @@
 #include "pipeline/stage.hpp"
 #include "pipeline/trusted_prefilter.hpp"
 #include "statfilter/filter.hpp"
+#include "statfilter/nonfinite.hpp"
 #include "statfilter/time_trust.hpp"
 
 namespace statfilter {
@@ -106,9 +107,19 @@ void Filter::execute(const FrameSource& source, FrameSink& sink, const RunOption
             scratch = std::make_unique<ScratchFrames>(s, source.attributes());
             if (trusting) trust = std::make_unique<TimeTrust>(s, time_trust_options(stages));
             std::vector<std::vector<double>> noisy_light(static_cast<size_t>(s.frames)), filtered_light(noisy_light.size());
+            // nonfinite=error is the pipeline's policy: the prefilter sees the frames first, and a NaN
+            // fails here as it would in the temporal stage (naming the sample and the remedy), not
+            // with the prefilter's own error.
+            const bool refuse_nonfinite = stages.has("nonfinite") && stages.get_string("nonfinite") == "error";
             parallel_for(s.frames, threads, [&](int64_t f) {
                 std::vector<float> frame(samples), noisy;
                 source.read_rows(f, 0, s.height, frame.data());
+                if (refuse_nonfinite) {
+                    Sequence view(frame.data(), one, contiguous_strides(one));
+                    view.channel_names() = source.attributes().channel_names();
+                    view.frame_numbers()[0] = source.attributes().frame_numbers()[static_cast<size_t>(f)];
+                    check_nonfinite(view, NonFinitePolicy::Error);
+                }
                 if (trust) noisy = frame;
                 noisy_light[static_cast<size_t>(f)] = channel_sums(frame.data(), one);
                 prefilter->apply(f, frame.data(), s, source.attributes());

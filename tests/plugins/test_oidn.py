@@ -119,6 +119,17 @@ def test_oidn_run_last_keeps_the_light_of_a_narrow_crop(oidn, sample, tmp_path):
         assert abs(bias) <= 0.005, (name, bias)
 
 
+def test_nonfinite_input_names_the_sample_and_the_remedy_before_oidn(oidn, sample, tmp_path):
+    bad = sample[0][:6].copy()
+    bad[2, :15] = np.nan
+    statfilter.write_sequence(str(tmp_path / "in.####.exr"), bad)
+    for args in (["--quality", "high"], ["--prefilter", "oidn"], ["--method", "pca", "--prefilter", "oidn"]):
+        proc = run_cli("denoise", tmp_path / "in.####.exr", tmp_path / "out" / "o.####.exr", *args, "-q", check_rc=1)
+        assert "NaN in frame 3 at pixel (0, 0) channel 'R'" in proc.stderr, (args, proc.stderr)
+        assert "set nonfinite=repair" in proc.stderr, (args, proc.stderr)
+        assert not list((tmp_path / "out").glob("o.*.exr"))
+
+
 def test_oidn_scratch_is_a_share_of_the_budget(oidn, tmp_path):
     """OIDN's own scratch (3000 MiB an instance by default) comes out of --memory: each instance is given
     max_memory_mb, at least 256 MiB (counted in what the run needs) and half of what the rest leaves;
@@ -226,5 +237,9 @@ def test_high_quality_repairs_nonfinite_samples_before_oidn(oidn, sample):
     f = statfilter.Filter("auto", quality="high", nonfinite="repair")
     out = f(bad)
     assert np.isfinite(out).all()
-    with pytest.raises(statfilter.NumericError):
+    # nonfinite=error (the default): the same error as without OIDN, naming the sample and the remedy,
+    # in memory and streamed from files (before, OIDN's own "non-finite value", without the remedy).
+    with pytest.raises(statfilter.NumericError, match="nonfinite=repair"):
         statfilter.Filter("auto", quality="high")(bad)
+    with pytest.raises(statfilter.NumericError, match="nonfinite=repair"):
+        statfilter.Filter("pca", prefilter="oidn")(bad)
