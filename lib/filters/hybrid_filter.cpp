@@ -274,7 +274,7 @@ private:
         options.transform = ValueTransform::None;
         options.frame_gain = still_light_levels(aligned, moving);
         options.vectors = vectors;
-        // A pixel with nothing finite to average keeps the first pass.
+        // A pixel the other frames do not reach (or nothing finite) keeps the first pass.
         const AlignedAverageStats stats = aligned_average(input, aligned, passes.get(), moving, options, aligned,
                                                           {progress, 0.5, 0.5, "motion compensation"});
         for (int64_t p = 0; p < s.pixels(); ++p) {

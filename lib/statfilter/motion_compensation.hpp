@@ -57,7 +57,9 @@ struct AlignedAverageStats {
 // value matches its value at t, which drops occlusions, flow errors and real changes of the light
 // (a moving shadow) from the average. The flow is computed on `passes` (make_pass_guide) when given,
 // else on the estimate itself. Frames, height and width must match the input's. `output` may be the
-// estimate itself: the estimate is read in full before anything is written.
+// estimate itself: the estimate is read in full before anything is written. A pixel that the other
+// frames do not reach (their summed weight under half of one frame's) is left as `output` has it: a
+// caller fills output with the first pass, which a lone noisy sample is no improvement on.
 AlignedAverageStats aligned_average(const Sequence& input, const Sequence& estimate, const Sequence* passes,
                                     const std::vector<uint8_t>& pixel_mask, const AlignedAverageOptions& options,
                                     Sequence& output, const ProgressSpan& progress);

@@ -138,13 +138,14 @@ TEST(AlignedAverage, FlowFinestScaleKeepsTheFieldWideEnough) {
 TEST(AlignedAverage, Extremes) {
     const Pan s = pan_scene(5, 40, 48, 1, 0.2);
     const auto passes = make_pass_guide(s.albedo.get(), nullptr);
-    // One frame: nothing to average with.
+    // One frame: nothing to average with, so the first pass (here the frame) is kept as it is.
     Sequence one(Shape{1, 40, 48, 3}), out_one(one.shape());
     for (int64_t y = 0; y < 40; ++y)
         for (int64_t x = 0; x < 48; ++x)
             for (int64_t c = 0; c < 3; ++c) one.at(0, y, x, c) = s.noisy->at(0, y, x, c);
+    out_one.copy_samples_from(one);
     average(one, one, nullptr, out_one);
-    EXPECT_LT(max_abs_diff(out_one, one), 1e-5);
+    EXPECT_EQ(max_abs_diff(out_one, one), 0.0);
     // Frames too small for flow: aligned as they are, no failure.
     const Pan tiny = pan_scene(4, 3, 5, 0, 0.1);
     Sequence out_tiny(tiny.noisy->shape());
@@ -169,6 +170,7 @@ TEST(AlignedAverage, Extremes) {
                     }
         AlignedAverageOptions o;
         o.transform = ValueTransform::None;
+        out.copy_samples_from(scaled_clean);
         average(scaled, scaled_clean, passes.get(), out, o);
         EXPECT_TRUE(all_finite(out)) << scale;
         EXPECT_LT(interior_mse(out, scaled_clean, 8), 0.5 * interior_mse(scaled, scaled_clean, 8)) << scale;
@@ -220,6 +222,7 @@ TEST(AlignedAverage, OutputMayBeTheEstimate) {
     const Pan s = pan_scene(7, 40, 48, 1, 0.3);
     const auto passes = make_pass_guide(s.albedo.get(), nullptr);
     Sequence separate(s.clean->shape()), in_place(s.clean->shape());
+    separate.copy_samples_from(*s.clean);  // the pixels the other frames do not reach keep it
     average(*s.noisy, *s.clean, passes.get(), separate);
     in_place.copy_samples_from(*s.clean);
     average(*s.noisy, in_place, passes.get(), in_place);
@@ -350,6 +353,7 @@ TEST(AlignedAverage, ASurfaceSeenInOneFrameGetsNoSamplesFromTheOthers) {
     o.half_width = 3;
     o.transform = ValueTransform::None;
     Sequence out(seq.shape());
+    out.copy_samples_from(seq);  // the first pass, which a pixel the others do not reach keeps
     average(seq, seq, nullptr, out, o);
     for (int64_t y = 16; y < 24; ++y)
         for (int64_t x = 20; x < 28; ++x) {
@@ -359,4 +363,37 @@ TEST(AlignedAverage, ASurfaceSeenInOneFrameGetsNoSamplesFromTheOthers) {
             else
                 EXPECT_NEAR(out.at(3, y, x, 0), 4.0f, 0.04f) << y << " " << x;
         }
+}
+
+// A surface seen in one frame only has nothing to average but its own noisy sample: it keeps the first
+// pass there (a lone sample is noisier), and where the other frames do reach it, it is averaged.
+TEST(AlignedAverage, APixelTheOtherFramesDoNotReachKeepsTheFirstPass) {
+    const Shape shape{7, 40, 48, 3};
+    Sequence noisy(shape), first_pass(shape);
+    std::mt19937 rng(5);
+    std::uniform_real_distribution<float> noise(-0.3f, 0.3f);
+    for (int64_t f = 0; f < 7; ++f)
+        for (int64_t y = 0; y < 40; ++y)
+            for (int64_t x = 0; x < 48; ++x)
+                for (int64_t c = 0; c < 3; ++c) {
+                    const bool patch = f == 3 && y >= 16 && y < 24 && x >= 20 && x < 28;
+                    const float truth = patch ? 4.0f : 0.5f;
+                    first_pass.at(f, y, x, c) = truth;
+                    noisy.at(f, y, x, c) = truth * (1.0f + noise(rng));
+                }
+    AlignedAverageOptions o;
+    o.half_width = 3;
+    o.transform = ValueTransform::None;
+    Sequence out(shape);
+    out.copy_samples_from(first_pass);
+    average(noisy, first_pass, nullptr, out, o);
+    double background = 0;
+    int64_t n = 0;
+    for (int64_t y = 18; y < 22; ++y)
+        for (int64_t x = 22; x < 26; ++x)
+            for (int64_t c = 0; c < 3; ++c) EXPECT_EQ(out.at(3, y, x, c), 4.0f) << y << " " << x << " " << c;
+    for (int64_t y = 2; y < 10; ++y)  // away from the patch: the seven frames' mean of the noisy samples
+        for (int64_t x = 2; x < 10; ++x, ++n) background += std::fabs(out.at(3, y, x, 0) - 0.5f);
+    EXPECT_LT(background / static_cast<double>(n), 0.5 * 0.3 * 0.5) << "averaged, not kept";
+    EXPECT_GT(background / static_cast<double>(n), 0.0) << "the background is the noisy samples' mean, not the first pass";
 }
