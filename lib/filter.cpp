@@ -44,7 +44,7 @@ void Filter::execute(const Sequence& input, Sequence& output, const Progress& pr
     // nonfinite=repair is the pipeline's policy, not only the temporal filter's: a prefilter (OIDN
     // refuses NaN) gets the samples repaired the same way (each series' finite mean) first.
     std::unique_ptr<Sequence> repaired;
-    if (pre && stages.has("nonfinite") && stages.get_string("nonfinite") == "repair" &&
+    if (pre && nonfinite_policy_is(stages, "repair") &&
         check_nonfinite(input, NonFinitePolicy::Repair) > 0) {
         repaired = std::make_unique<Sequence>(input.shape());
         repaired->copy_samples_from(input);
@@ -54,7 +54,7 @@ void Filter::execute(const Sequence& input, Sequence& output, const Progress& pr
     }
     const Sequence* noisy = source;
     // nonfinite=error: a NaN fails naming the sample and the remedy before the prefilter meets it.
-    if (prefilter_first && stages.has("nonfinite") && stages.get_string("nonfinite") == "error")
+    if (prefilter_first && nonfinite_policy_is(stages, "error"))
         check_nonfinite(*source, NonFinitePolicy::Error);
     std::unique_ptr<TimeTrust> trust;
     if (prefilter_first) {  // the stage's execute gives it input's attributes

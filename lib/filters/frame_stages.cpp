@@ -91,6 +91,10 @@ bool keeps_prefilter_light(const ParamSet& params) {
     return has_frame_stage(params, "prefilter") && params.has("keep_mean") && params.get_int("keep_mean") != 0;
 }
 
+bool nonfinite_policy_is(const ParamSet& params, const char* policy) {
+    return params.has("nonfinite") && params.get_string("nonfinite") == policy;
+}
+
 bool trusts_time_by_tile(const ParamSet& params) {
     return has_frame_stage(params, "prefilter") && params.has("prefilter_trust") && params.get_int("prefilter_trust") != 0;
 }

@@ -85,5 +85,7 @@ bool trusts_time_by_tile(const ParamSet& params);
 TimeTrustOptions time_trust_options(const ParamSet& params);
 // True when a prefilter runs and its output is to be scaled to the noisy shot's light (keep_mean).
 bool keeps_prefilter_light(const ParamSet& params);
+// True when the filter has the nonfinite parameter and it names `policy` ("error" or "repair").
+bool nonfinite_policy_is(const ParamSet& params, const char* policy);
 
 }  // namespace statfilter

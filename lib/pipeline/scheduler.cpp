@@ -63,7 +63,7 @@ void Filter::execute(const FrameSource& source, FrameSink& sink, const RunOption
 
     double needed = 0;
     // A prefilter on samples to repair needs each series' mean first: such a run holds the shot.
-    const bool repair_first = pre && stages.has("nonfinite") && stages.get_string("nonfinite") == "repair";
+    const bool repair_first = pre && nonfinite_policy_is(stages, "repair");
     const auto stage = repair_first ? nullptr : stream_stage();
     const bool streamed = stage != nullptr;
     if (stage) {
@@ -110,7 +110,7 @@ void Filter::execute(const FrameSource& source, FrameSink& sink, const RunOption
             // nonfinite=error is the pipeline's policy: the prefilter sees the frames first, and a NaN
             // fails here as it would in the temporal stage (naming the sample and the remedy), not
             // with the prefilter's own error.
-            const bool refuse_nonfinite = stages.has("nonfinite") && stages.get_string("nonfinite") == "error";
+            const bool refuse_nonfinite = nonfinite_policy_is(stages, "error");
             parallel_for(s.frames, threads, [&](int64_t f) {
                 std::vector<float> frame(samples), noisy;
                 source.read_rows(f, 0, s.height, frame.data());

@@ -16,7 +16,7 @@ void prefilter_and_probe(FrameStagePool& prefilter, const Sequence& noisy, Seque
 // The single-frame filter on every frame of frames, in place (a prefilter run last); attributes: the
 // shot's frame numbers and channel names. With keep_light the result is scaled back to the light
 // frames had (light_gain of their sums before and after): a single-frame denoiser does not keep it,
-// least of all where it has little to see (a one-row crop lost 13% of its light to OIDN).
+// least of all where it has little to see (a one-row crop lost 12% of its light to OIDN).
 void filter_frames(FrameStagePool& filter, Sequence& frames, const Sequence& attributes, int threads,
                    const ProgressSpan& progress, bool keep_light);
 // Every frame of result (the temporal filter's output on prefiltered) blended back towards
