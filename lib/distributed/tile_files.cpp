@@ -45,7 +45,7 @@ void remove_stale_temporaries(const std::string& path) {
         if (pid <= 0 || !end || *end != '\0' || pid == ::getpid()) continue;
         if (::kill(static_cast<pid_t>(pid), 0) != 0 && errno == ESRCH) {
             std::error_code rm;
-            fs::remove(entry.path(), rm);
+            fs::remove_all(entry.path(), rm);  // a file, or an AtomicDirectory's directory
         }
     }
 }
@@ -56,6 +56,32 @@ AtomicFile::AtomicFile(const std::string& path) : path_(path), temporary_(tempor
     remove_stale_temporaries(path);
     fd_ = ::open(temporary_.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
     if (fd_ < 0) throw Error(Status::Io, system_error("cannot create", temporary_));
+}
+
+AtomicDirectory::AtomicDirectory(const std::string& path) : path_(path), temporary_(temporary_name(path)) {
+    remove_stale_temporaries(path);
+    std::error_code ec;
+    fs::remove_all(temporary_, ec);
+    if (!fs::create_directories(temporary_, ec) || ec) throw Error(Status::Io, "cannot create the directory '" + temporary_ + "': " + ec.message());
+}
+
+AtomicDirectory::~AtomicDirectory() {
+    std::error_code ec;
+    if (!temporary_.empty()) fs::remove_all(temporary_, ec);
+}
+
+int64_t AtomicDirectory::commit() {
+    std::error_code ec;
+    int64_t bytes = 0;
+    for (const auto& entry : fs::directory_iterator(temporary_))
+        if (entry.is_regular_file()) bytes += static_cast<int64_t>(entry.file_size());
+    // A finished run's directory (this task run again) goes first: a rename does not replace a
+    // directory that holds files. Killed between the two, the task leaves none, and the tasks after
+    // it say the analysis is missing.
+    fs::remove_all(path_, ec);
+    if (::rename(temporary_.c_str(), path_.c_str()) != 0) throw Error(Status::Io, system_error("cannot rename into", path_));
+    temporary_.clear();
+    return bytes;
 }
 
 AtomicFile::~AtomicFile() {

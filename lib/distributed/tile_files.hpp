@@ -46,6 +46,22 @@ private:
     int fd_ = -1;
 };
 
+// A directory made whole or not at all: files go into a temporary directory (PATH.tmp-HOST-PID, a
+// dead process' of this host removed as AtomicFile's) that commit renames into place.
+class AtomicDirectory {
+public:
+    explicit AtomicDirectory(const std::string& path);
+    ~AtomicDirectory();  // removes the temporary unless committed
+    AtomicDirectory(const AtomicDirectory&) = delete;
+    AtomicDirectory& operator=(const AtomicDirectory&) = delete;
+    const std::string& temporary() const { return temporary_; }
+    // Replaces what is at path; returns the bytes of the files it holds.
+    int64_t commit();
+
+private:
+    std::string path_, temporary_;
+};
+
 // Writes the whole file at path atomically (an AtomicFile written once and committed).
 void write_file(const std::string& path, const void* data, size_t bytes);
 

@@ -6,6 +6,7 @@
 
 #include "distributed/plan_json.hpp"
 #include "filters/frame_stages.hpp"
+#include "pipeline/frame_stage_pool.hpp"
 #include "pipeline/low_rank_stage.hpp"
 #include "pipeline/memory_budget.hpp"
 #include "pipeline/stage.hpp"
@@ -34,6 +35,10 @@ std::string make_plan(const Filter& filter, const FrameSource& source, const Pla
     const bool pre = has_frame_stage(stages, "prefilter"), post = runs_postfilter(stages);
     const auto stage = filter.stream_stage();
     const auto* low_rank = stage ? dynamic_cast<const LowRankStage*>(&stage->core()) : nullptr;
+    // A postfilter runs on each frame a window task makes, unless it takes a share of the memory budget
+    // (OIDN's tiles follow the share, which depends on the run around it).
+    const bool post_per_frame = !post || !FrameStagePool("postfilter", stages).takes_memory_share();
+    const WindowedStage* windowed = stage && !pre && post_per_frame ? stage->windowed() : nullptr;
 
     std::string kind, reason;
     std::vector<Task> tasks;
@@ -78,6 +83,27 @@ std::string make_plan(const Filter& filter, const FrameSource& source, const Pla
         }
         for (int64_t f = 0; f < s.frames; f += per_task)
             tasks.push_back({"assemble", "\"frames\": " + range_json(f, std::min(s.frames, f + per_task)), reconstruct});
+    } else if (windowed) {
+        // The passes over the shot in one task; then chunks of frames, each reading its frames and the
+        // window's reach either side from the input and from the analysis.
+        kind = "window";
+        const int64_t h = windowed->window_half();
+        const double budget = request.budget_bytes > 0 ? request.budget_bytes : static_cast<double>(default_memory_budget());
+        const int threads = request.threads > 0 ? request.threads : 1;
+        check_memory_budget(stage->min_bytes(s, threads), budget, "the analysis task (" + std::to_string(s.frames) + " frames)");
+        check_memory_budget(windowed->frames_min_bytes(s), budget, "a frame task");
+        reason = "the stage (" + describe(stage->footprint()) + ") as one analysis task over the shot, then chunks of " +
+                 std::to_string(per_task) + " frames, each reading " + std::to_string(h) + " frames either side" +
+                 (post ? " and running the postfilter on its frames" : "");
+        extra << "  \"window_half\": " << h << ",\n";
+        tasks.push_back({"analysis", "\"frames\": " + range_json(0, s.frames), {}});
+        for (int64_t f = 0; f < s.frames; f += per_task) {
+            const int64_t f1 = std::min(s.frames, f + per_task);
+            tasks.push_back({"window",
+                             "\"frames\": " + range_json(f, f1) + ", \"read_frames\": " +
+                                 range_json(std::max<int64_t>(0, f - h), std::min(s.frames, f1 + h)),
+                             {0}});
+        }
     } else if (stage && stage->footprint().reach == TemporalReach::Frame) {
         kind = "frames";
         reason = "a per-frame filter (" + describe(stage->footprint()) + "): chunks of " + std::to_string(per_task) +

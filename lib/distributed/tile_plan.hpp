@@ -4,8 +4,10 @@
 // bands of full-width rows of every frame ("tiles"): statistics tasks write each tile's partial Gram,
 // one reduction sums them in tile order and makes the basis, reconstruction tasks rebuild their rows
 // (reading the halo their stage declares) into tile files, assembly tasks write each output frame
-// once from the tiles. Per-frame filters are cut into chunks of frames. Everything else runs as one
-// task over the whole shot. Every task writes its outputs atomically (temporary + rename), so a rerun
+// once from the tiles. A stage that is an analysis and frame windows (the hybrid's, and so
+// --quality balanced) runs its analysis in one task ("window" plans) and its frames in chunks, each
+// reading its window's reach of frames either side. Per-frame filters are cut into chunks of frames.
+// Everything else runs as one task over the whole shot. Every task writes its outputs atomically (temporary + rename), so a rerun
 // of a finished or killed task rewrites the same files; a task's report (task-N.json in the work
 // directory) is written last and says it finished.
 #pragma once

@@ -6,12 +6,15 @@
 #include <cstdio>
 #include <functional>
 #include <filesystem>
+#include <mutex>
 #include <sstream>
 
 #include "distributed/detect_plan.hpp"
 #include "distributed/task_common.hpp"
 #include "distributed/tile_files.hpp"
 #include "distributed/tile_plan.hpp"
+#include "filters/frame_stages.hpp"
+#include "pipeline/frame_stage_pool.hpp"
 #include "pipeline/low_rank_stage.hpp"
 #include "pipeline/memory_budget.hpp"
 #include "pipeline/library_threads.hpp"
@@ -34,6 +37,7 @@ struct Work {
     std::string reduced() const { return dir + "/reduced.bin"; }
     std::string tile(int64_t tile) const { return dir + "/tile-" + std::to_string(tile) + ".f32"; }
     std::string report(int64_t task) const { return dir + "/task-" + std::to_string(task) + ".json"; }
+    std::string analysis() const { return dir + "/analysis"; }
 };
 
 struct Run {
@@ -215,6 +219,63 @@ void frames_task(Run& run, const JsonValue& task, int64_t index) {
     publish(run, staging, frames->attributes());
 }
 
+const WindowedStage& windowed_stage(const Run& run, std::unique_ptr<StreamStage>& holder) {
+    holder = run.context.filter->stream_stage();
+    const WindowedStage* windowed = holder ? holder->windowed() : nullptr;
+    if (!windowed) throw Error(Status::InvalidArgument, "the plan's filter has no analysis and frame windows (was the plan made with other options?)");
+    return *windowed;
+}
+
+// The stage's passes over the whole shot, saved for the window tasks (work/analysis, made whole or
+// not at all).
+void analysis_task(Run& run) {
+    std::unique_ptr<StreamStage> holder;
+    const WindowedStage& stage = windowed_stage(run, holder);
+    CountingSource counted(*run.context.source, run.pixels_read);
+    AtomicDirectory dir(run.work.analysis());
+    stage.analyse_into(counted, dir.temporary(), run.stage, run.results);
+    run.bytes_written += dir.commit();
+    run.outputs.push_back(run.work.analysis());
+}
+
+// Frames [f0, f1) from the analysis, reading frames f0 - h .. f1 - 1 + h of the input and of the
+// analysis' frames; each output frame staged and moved into place.
+void window_task(Run& run, const JsonValue& task, int64_t index) {
+    const auto [f0, f1] = range(task, "frames", "task");
+    std::unique_ptr<StreamStage> holder;
+    const WindowedStage& stage = windowed_stage(run, holder);
+    CountingSource counted(*run.context.source, run.pixels_read);
+    const auto attributes = frame_range_attributes(run.context.source->attributes(), f0, f1);
+    const std::string staging = staging_dir(run.plan, index);
+    auto sink = staging_sink(run, staging, *attributes);
+    const Shape& s = counted.shape();
+    const int64_t frame_bytes = s.pixels() * s.channels * static_cast<int64_t>(sizeof(float));
+    // The postfilter on each frame, as Filter::execute runs it (the plan has one only when it takes no
+    // share of the memory budget).
+    const ParamSet stages = run.context.filter->frame_stage_params();
+    std::unique_ptr<FrameStagePool> post;
+    if (runs_postfilter(stages)) post = std::make_unique<FrameStagePool>("postfilter", stages);
+    std::once_flag provenance;
+    stage.frames_from(counted, run.work.analysis(), f0, f1, [&](int64_t t, float* pixels) {
+        // What the preset chose (the analysis said), as the single-process frames say.
+        std::call_once(provenance, [&] {
+            for (const char* name : {"method", "reason"})
+                if (run.results.has(name)) sink->set_attribute(std::string("statfilter:") + name, run.results.get_string(name));
+        });
+        if (post) post->apply(t, pixels, s, counted.attributes());
+        sink->write_frame(t - f0, pixels);
+    }, run.stage, run.results);
+    if (post) post->add_results(run.results);
+    sink->commit();
+    sink.reset();
+    const auto [r0, r1] = range(task, "read_frames", "task");
+    // The analysis' frames read: each frame's I_T (a still scene's frames), and with motion its first
+    // pass and the guides of its window.
+    const bool still = !run.results.has("hybrid.aligned_frames");
+    run.bytes_read += ((f1 - f0) + (still ? 0 : (f1 - f0) + (r1 - r0))) * frame_bytes;
+    publish(run, staging, *attributes);
+}
+
 void shot_task(Run& run) {
     CountingSource counted(*run.context.source, run.pixels_read);
     auto sink = run.context.open_sink(run.plan.find("output")->string(), counted.attributes(), false);
@@ -253,6 +314,8 @@ std::string run_plan_task(const JsonValue& plan, int64_t index, const TaskContex
     else if (phase == "reconstruct") reconstruct_task(run, task);
     else if (phase == "assemble") assemble_task(run, task, index);
     else if (phase == "frames") frames_task(run, task, index);
+    else if (phase == "analysis") analysis_task(run);
+    else if (phase == "window") window_task(run, task, index);
     else if (phase == "shot") shot_task(run);
     else throw Error(Status::InvalidArgument, "task " + std::to_string(index) + " has an unknown phase '" + phase + "'");
     context.progress.report(1.0, "done");

@@ -28,6 +28,7 @@
 
 #include "filters/builtin_filters.hpp"
 #include "filters/frame_stages.hpp"
+#include "filters/hybrid_analysis_file.hpp"
 #include "filters/hybrid_stage.hpp"
 #include "filters/motion_analysis.hpp"
 #include "filters/temporal_params.hpp"
@@ -173,13 +174,13 @@ private:
 
 // balanced and high streamed: the hybrid's stage decides still or moving once, from one analysis, and
 // the preset's choice and reason are reported from what it found.
-class MotionPresetStage final : public StreamStage {
+class MotionPresetStage final : public StreamStage, public WindowedStage {
 public:
     // oidn: the pipeline runs OIDN around the stage (quality high; Filter::frame_stage_params).
     MotionPresetStage(HybridStageOptions options, std::string quality, std::string transform, double still_fraction,
                       bool oidn, bool noisy_frames, bool light_levels)
         : refine_(options.refine_after), oidn_(oidn), noisy_frames_(noisy_frames), light_levels_(light_levels),
-          stage_(std::move(options)),
+          half_width_(options.mc.half_width), stage_(std::move(options)),
           quality_(std::move(quality)),
           transform_(std::move(transform)), still_fraction_(still_fraction) {}
     Footprint footprint() const override { return stage_.footprint(); }
@@ -196,20 +197,7 @@ public:
         // the frames can say what made them.
         std::once_flag decided;
         bool still = false;
-        const auto report = [&] {
-            const double moving = own.get_float("motion_fraction");
-            still = moving < still_fraction_;
-            const Choice choice = choose(quality_, moving, still, false, oidn_, "");
-            std::string picked = choice.method;
-            if (refine_) picked += std::string(" then ") + kRefinePostfilter;
-            if (oidn_) picked += " then oidn";
-            results.set("motion_fraction", moving);
-            results.set("method", picked);
-            results.set("reason", choice.reason);
-            results.set("quality", quality_);
-            results.set("transform", transform_);
-            report_noise_in_time(noise, results);
-        };
+        const auto report = [&] { still = report_choice(own, noise, results); };
         // A light that changes over the shot is divided out before the stage and multiplied back
         // after (pipeline/light_levels.hpp); a still light leaves the stage its source untouched.
         // Not with a prefilter around the stage (high's OIDN): there it was mixed (cornell_light 4 spp
@@ -224,17 +212,88 @@ public:
         }, context, own);
         std::call_once(decided, report);  // a shot of no frames
         if (light_levels_) report_light_levels(light, results);
+        add_hybrid_results(own, still, results);
+    }
+
+    // A plan's tasks (balanced without OIDN): the analysis in one, the frames in chunks.
+    const WindowedStage* windowed() const override { return oidn_ ? nullptr : this; }
+    int64_t window_half() const override { return half_width_; }
+    double frames_min_bytes(const Shape& shape) const override { return stage_.window_min_bytes(shape); }
+
+    void analyse_into(const FrameSource& source, const std::string& dir, const StageContext& context,
+                      Results& results) const override {
+        Results own;
+        const NoiseInTime noise = probe_shot(noisy_frames_, source);
+        LightLevels light;
+        if (light_levels_) light = measure_light_levels(source, context.threads);
+        const LevelledSource levelled(source, light);
+        const HybridAnalysis analysis =
+            stage_.analyse(light.modelled ? static_cast<const FrameSource&>(levelled) : source, context, own, nullptr);
+        const bool still = report_choice(own, noise, results);
+        if (light_levels_) report_light_levels(light, results);
+        add_hybrid_results(own, still, results);
+        std::string levels, channels;
+        for (double l : light.levels) levels += (levels.empty() ? "" : ", ") + json_number(l);
+        for (uint8_t c : light.channels) channels += std::string(channels.empty() ? "" : ", ") + (c ? "1" : "0");
+        save_hybrid_analysis(analysis, source.shape(), dir,
+                             "\"method\": " + json_quote(results.get_string("method")) + ",\n  \"reason\": " +
+                                 json_quote(results.get_string("reason")) + ",\n  \"light_modelled\": " +
+                                 (light.modelled ? "true" : "false") + ",\n  \"light_levels\": [" + levels +
+                                 "],\n  \"light_channels\": [" + channels + "]");
+    }
+
+    void frames_from(const FrameSource& source, const std::string& dir, int64_t f0, int64_t f1,
+                     const FrameConsumer& consume, const StageContext& context, Results& results) const override {
+        JsonValue json;
+        const HybridAnalysis analysis = load_hybrid_analysis(source.shape(), source.attributes(), dir, &json);
+        LightLevels light;
+        for (const char* key : {"method", "reason", "light_modelled", "light_levels", "light_channels"})
+            if (!json.find(key)) throw Error(Status::InvalidArgument, "'" + dir + "/analysis.json' has no '" + key + "'");
+        light.modelled = json.find("light_modelled")->boolean();
+        for (const JsonValue& v : json.find("light_levels")->array()) light.levels.push_back(v.number());
+        for (const JsonValue& v : json.find("light_channels")->array()) light.channels.push_back(v.number() != 0 ? 1 : 0);
+        results.set("method", json.find("method")->string());
+        results.set("reason", json.find("reason")->string());
+        const LevelledSource levelled(source, light);
+        Results own;
+        stage_.window(light.modelled ? static_cast<const FrameSource&>(levelled) : source, analysis, f0, f1,
+                      [&](int64_t f, float* pixels) {
+                          if (light.modelled) levelled.restore(f, pixels);
+                          consume(f, pixels);
+                      },
+                      context, own);
+        if (!analysis.still) add_hybrid_results(own, false, results);
+    }
+
+private:
+    // What the preset picked, from the motion the analysis measured; returns whether the scene is still.
+    bool report_choice(const Results& own, const NoiseInTime& noise, Results& results) const {
+        const double moving = own.get_float("motion_fraction");
+        const bool still = moving < still_fraction_;
+        const Choice choice = choose(quality_, moving, still, false, oidn_, "");
+        std::string picked = choice.method;
+        if (refine_) picked += std::string(" then ") + kRefinePostfilter;
+        if (oidn_) picked += " then oidn";
+        results.set("motion_fraction", moving);
+        results.set("method", picked);
+        results.set("reason", choice.reason);
+        results.set("quality", quality_);
+        results.set("transform", transform_);
+        report_noise_in_time(noise, results);
+        return still;
+    }
+
+    static void add_hybrid_results(const Results& own, bool still, Results& results) {
         for (const auto& name : own.names()) {
             if (name == "alpha") continue;
             // The still scene's global PCA reports its rank as pca's.
             if (still && name == "temporal_rank") results.copy(own, name, "pca.rank");
             else if (!still) results.copy(own, name, "hybrid." + name);
         }
-        results.copy(own, "alpha", "alpha");
-        results.copy(own, "bands", "bands");
+        if (own.has("alpha")) results.copy(own, "alpha", "alpha");
+        if (own.has("bands")) results.copy(own, "bands", "bands");
     }
 
-private:
     // Noise that is the same in every frame: no temporal model removes it, and aligning frames along a
     // flow that the fixed pattern holds still smears the picture (camera_pan, one seed: 2.1x OIDN's
     // relMSE with the hybrid first). The frames pass through unchanged, so OIDN, which runs on what the
@@ -252,6 +311,7 @@ private:
     }
 
     bool refine_, oidn_, noisy_frames_, light_levels_;
+    int64_t half_width_;
     HybridStage stage_;
     std::string quality_, transform_;
     double still_fraction_;

@@ -8,6 +8,7 @@
 
 #include "filters/builtin_filters.hpp"
 #include "filters/frame_stages.hpp"
+#include "filters/hybrid_analysis_file.hpp"
 #include "filters/motion_analysis.hpp"
 #include "filters/own_first_pass.hpp"
 #include "filters/temporal_params.hpp"
@@ -46,6 +47,24 @@ struct WindowFrame {
     std::vector<float> values, guide;
     std::vector<uint8_t> image;
 };
+
+// As many threads as `bytes(threads)` fits in the budget, one at least.
+int fitting_threads(const StageContext& ctx, const std::function<double(int)>& bytes) {
+    int t = std::max(1, ctx.threads);
+    while (t > 1 && bytes(t) > ctx.budget_bytes) --t;
+    return t;
+}
+
+// Frame f of the input with the fireflies the statistics pass found replaced as the temporal model saw them.
+void read_input(const FrameSource& source, const HybridAnalysis& analysis, int64_t f, float* frame) {
+    source.read_rows(f, 0, source.shape().height, frame);
+    if (!analysis.fireflies.empty())
+        for (const auto& [i, v] : analysis.fireflies[static_cast<size_t>(f)]) frame[i] = v;
+}
+
+double gain_of(const HybridAnalysis& analysis, int64_t f) {
+    return analysis.frame_gain.empty() ? 1.0 : analysis.frame_gain[static_cast<size_t>(f)];
+}
 
 }  // namespace
 
@@ -148,20 +167,32 @@ double HybridStage::min_bytes(const Shape& s, int threads) const {
 }
 
 void HybridStage::run(const FrameSource& source, const FrameConsumer& consume, const StageContext& ctx, Results& results) {
+    const HybridAnalysis analysis = analyse(source, ctx, results, &consume);
+    if (!analysis.still) window(source, analysis, 0, source.shape().frames, consume, ctx, results);
+}
+
+void HybridStage::analyse_into(const FrameSource& source, const std::string& dir, const StageContext& ctx,
+                               Results& results) const {
+    save_hybrid_analysis(analyse(source, ctx, results, nullptr), source.shape(), dir, "");
+}
+
+void HybridStage::frames_from(const FrameSource& source, const std::string& dir, int64_t f0, int64_t f1,
+                              const FrameConsumer& consume, const StageContext& ctx, Results& results) const {
+    const HybridAnalysis analysis = load_hybrid_analysis(source.shape(), source.attributes(), dir, nullptr);
+    window(source, analysis, f0, f1, consume, ctx, results);
+}
+
+HybridAnalysis HybridStage::analyse(const FrameSource& source, const StageContext& ctx, Results& results,
+                                    const FrameConsumer* still_output) const {
     const Shape& s = source.shape();
     const int64_t F = s.frames, P = s.pixels(), C = s.channels, H = s.height, W = s.width;
     const int64_t frame_samples = P * C;
-    // The rebuild and the window hold a few frames per thread: as many threads as the budget allows.
-    const auto fitting_threads = [&](const std::function<double(int)>& bytes) {
-        int t = std::max(1, ctx.threads);
-        while (t > 1 && bytes(t) > ctx.budget_bytes) --t;
-        return t;
-    };
     const Progress none;
     const Progress& progress = ctx.progress ? *ctx.progress : none;
     const LowRankStage temporal(options_.temporal), still(options_.still);
     StageContext inner = ctx;
     inner.budget_bytes = ctx.budget_bytes - analysis_bytes(s);
+    HybridAnalysis analysis;
 
     // 1. Statistics. The Gram, and each frame's light level for the change test, in one read.
     auto change_test = std::make_unique<TemporalChange>(s, options_.change);
@@ -235,24 +266,37 @@ void HybridStage::run(const FrameSource& source, const FrameConsumer& consume, c
     results.set("bands", static_cast<double>(stats.bands));
 
     FrameStagePool refine("postfilter", refine_);
-    const auto hand_on = [&](int64_t t, float* pixels) {
-        if (options_.refine_after) refine.apply(t, pixels, s, source.attributes());
-        consume(t, pixels);
-    };
     Results own;
+    const auto park = [&] {
+        auto frames = std::make_unique<ScratchFrames>(s, source.attributes());
+        ScratchFrames* parked = frames.get();
+        analysis.held.push_back(std::move(frames));
+        return parked;
+    };
     if (moving_share < options_.still_fraction) {
         // 2. A still scene: global PCA (automatic rank) from the Gram at hand is all it requires.
+        analysis.still = true;
         const Progress rebuild = part_of(progress, 0.3, 0.7);
         inner.progress = &rebuild;
-        // Room for the light pass' buffers on every thread beside the model: they are kept.
-        const double kept = ctx.threads * diffusion_working_bytes(s.pixels(), s.channels);
-        refine.keep_buffers(still.min_bytes(s, ctx.threads) + kept <= inner.budget_bytes);
-        still.reconstruct(source, std::move(stats), hand_on, inner, own);
+        if (still_output) {
+            // Room for the light pass' buffers on every thread beside the model: they are kept.
+            const double kept = ctx.threads * diffusion_working_bytes(s.pixels(), s.channels);
+            refine.keep_buffers(still.min_bytes(s, ctx.threads) + kept <= inner.budget_bytes);
+            still.reconstruct(source, std::move(stats), [&](int64_t t, float* pixels) {
+                if (options_.refine_after) refine.apply(t, pixels, s, source.attributes());
+                (*still_output)(t, pixels);
+            }, inner, own);
+        } else {
+            ScratchFrames* frames = park();
+            still.reconstruct(source, std::move(stats), [&](int64_t t, float* pixels) { frames->write_frame(t, pixels); },
+                              inner, own);
+            analysis.temporal = frames;
+        }
         results.set("beta_source", "none (still scene)");
         results.set("moving_basis_fraction", 0.0);
         results.set("diffusion_fraction", 0.0);
         results.copy(own, "rank", "temporal_rank");
-        return;
+        return analysis;
     }
 
     // 3. The moving pixels: the weight grown by a max filter. alpha is pooled over a box and ramps,
@@ -262,13 +306,11 @@ void HybridStage::run(const FrameSource& source, const FrameConsumer& consume, c
     for (int64_t p = 0; p < P; ++p) grown.at<float>(static_cast<int>(p)) = weight->at(0, p / W, p % W, 0);
     if (options_.mc_dilate > 0)
         cv::dilate(grown, grown, cv::Mat::ones(2 * options_.mc_dilate + 1, 2 * options_.mc_dilate + 1, CV_8U));
-    std::vector<int64_t> pixels;
+    analysis.grown.assign(grown.ptr<float>(), grown.ptr<float>() + P);
     std::vector<uint8_t> moving(static_cast<size_t>(P), 0);
+    int64_t moving_count = 0;
     for (int64_t p = 0; p < P; ++p)
-        if (grown.at<float>(static_cast<int>(p)) > 0.0f) {
-            moving[static_cast<size_t>(p)] = 1;
-            pixels.push_back(p);
-        }
+        if (analysis.grown[static_cast<size_t>(p)] > 0.0f) moving[static_cast<size_t>(p)] = 1, ++moving_count;
     // The change test stays for the own first pass' test of I_T, frame by frame (maps_bytes).
     const OwnFirstPass own_first(s, std::move(own_weight), test_change ? &change : nullptr, moving,
                                  options_.mc.half_width, options_.single_frame);
@@ -277,27 +319,24 @@ void HybridStage::run(const FrameSource& source, const FrameConsumer& consume, c
     // The fireflies the statistics pass found, frame by frame: the temporal model never saw them, and
     // neither may the frame's own diffusion or the average along the flow, which read the input again
     // (else a firefly spreads to the frames aligned with its own).
-    std::vector<std::vector<std::pair<int64_t, float>>> fireflies(static_cast<size_t>(F));
+    analysis.fireflies.resize(static_cast<size_t>(F));
     for (const TemporalOutlier& o : stats.fireflies.empty() ? std::vector<TemporalOutlier>() : stats.fireflies.front()) {
         const int64_t p = o.series / group.group.count, c = group.group.first + o.series % group.group.count;
-        fireflies[static_cast<size_t>(o.frame)].emplace_back(p * C + c, static_cast<float>(o.value));
+        analysis.fireflies[static_cast<size_t>(o.frame)].emplace_back(p * C + c, static_cast<float>(o.value));
     }
-    const auto read_input = [&](int64_t f, float* frame) {
-        source.read_rows(f, 0, H, frame);
-        for (const auto& [i, v] : fireflies[static_cast<size_t>(f)]) frame[i] = v;
-    };
     // I_T and the first pass it is checked against (I_T with the light diffusion pass; the frame's
     // own diffusion where I_T ghosts: the flow then follows the object, and a pixel with nothing to
     // average is no worse than a single-frame filter), frame by frame, parked; the first pass' sums
     // as they come.
-    ScratchFrames temporal_frames(s, source.attributes()), first_pass(s, source.attributes());
+    ScratchFrames& temporal_frames = *park();
+    ScratchFrames& first_pass = *park();
     std::vector<double> sums(static_cast<size_t>(F)), still_levels(static_cast<size_t>(F));
     const Progress rebuild = part_of(progress, 0.3, 0.2);
     inner.progress = &rebuild;
     // As many threads as the budget holds frames being rebuilt and diffused (min_bytes: one).
     // The light pass keeps its buffers from frame to frame where the budget holds them at the same
     // thread count (they save the system zeroing fresh pages for every frame; threads save more).
-    inner.threads = fitting_threads([&](int t) { return rebuild_bytes(s, t, false); });
+    inner.threads = fitting_threads(ctx, [&](int t) { return rebuild_bytes(s, t, false); });
     const bool keep_rebuild = rebuild_bytes(s, inner.threads, true) <= ctx.budget_bytes;
     refine.keep_buffers(keep_rebuild);
     inner.budget_bytes = ctx.budget_bytes - maps_bytes(s) - first_pass_bytes(s, inner.threads, keep_rebuild);
@@ -315,10 +354,10 @@ void HybridStage::run(const FrameSource& source, const FrameConsumer& consume, c
         estimate.assign(pixels, pixels + frame_samples);
         refine.apply(t, estimate.data(), s, source.attributes());
         if (!own_first.never()) {
-            std::vector<float>& own = scratch->own;
-            own.resize(static_cast<size_t>(frame_samples));
-            read_input(t, own.data());  // every row
-            own_counts[static_cast<size_t>(t)] = own_first.apply(t, own.data(), pixels, estimate.data(), scratch->diffusion);
+            std::vector<float>& own_frame = scratch->own;
+            own_frame.resize(static_cast<size_t>(frame_samples));
+            read_input(source, analysis, t, own_frame.data());  // every row
+            own_counts[static_cast<size_t>(t)] = own_first.apply(t, own_frame.data(), pixels, estimate.data(), scratch->diffusion);
         }
         sums[static_cast<size_t>(t)] = positive_sum(estimate.data(), frame_samples);
         double level = 0;
@@ -336,32 +375,29 @@ void HybridStage::run(const FrameSource& source, const FrameConsumer& consume, c
     for (const char* name : {"rank", "mean_rank"})
         if (own.has(name)) results.copy(own, name, std::string("temporal_") + name);
 
-    AlignedAverageOptions mc = options_.mc;
     double total = 0;
     for (double v : sums) total += v;
     const double mean = estimate_mean(total, F * frame_samples);
     // Each frame's light level where nothing moves (its first pass summed over the still pixels, over
     // the shot's mean of that sum), so the aligned averages follow a global light change; none
     // (constant) when under 5% of the frame is still, where frame sums would measure content, not light.
-    const auto still_count = static_cast<int64_t>(std::count(moving.begin(), moving.end(), uint8_t{0}));
-    if (still_count >= P / 20) {
+    if (P - moving_count >= P / 20) {
         double level_mean = 0;
         for (double l : still_levels) level_mean += l / static_cast<double>(F);
-        mc.frame_gain = still_levels;
-        for (double& l : mc.frame_gain) {
+        analysis.frame_gain = still_levels;
+        for (double& l : analysis.frame_gain) {
             if (!(level_mean > 0) || !(l > 0)) {
-                mc.frame_gain.clear();
+                analysis.frame_gain.clear();
                 break;
             }
             l /= level_mean;
         }
     }
-    const auto gain = [&](int64_t f) { return mc.frame_gain.empty() ? 1.0 : mc.frame_gain[static_cast<size_t>(f)]; };
 
     // The flow images' scale: the guide's 99.5th percentile, in two reads of the guides. Each frame's
     // guide is made once, from its first pass, and parked for the second read and the window.
     GuideScale quantile(frame_samples);
-    ScratchFrames guide_frames(s, source.attributes());
+    ScratchFrames& guide_frames = *park();
     for (const bool counting : {true, false}) {
         const int64_t batch = std::max(1, ctx.threads);
         std::vector<std::vector<float>> guides(static_cast<size_t>(batch), std::vector<float>(static_cast<size_t>(frame_samples)));
@@ -372,7 +408,7 @@ void HybridStage::run(const FrameSource& source, const FrameConsumer& consume, c
                 if (!counting) return guide_frames.read_rows(f0 + i, 0, H, guide);
                 std::vector<float> estimate(static_cast<size_t>(frame_samples));
                 first_pass.read_rows(f0 + i, 0, H, estimate.data());
-                aligned_guide(estimate.data(), frame_samples, gain(f0 + i), mean, guide);
+                aligned_guide(estimate.data(), frame_samples, gain_of(analysis, f0 + i), mean, guide);
                 guide_frames.write_frame(f0 + i, guide);
             }, {progress, 0.5 + (counting ? 0.0 : 0.025) + 0.025 * f0 / F, 0, "motion compensation"});
             for (int64_t i = 0; i < n; ++i) {
@@ -382,7 +418,53 @@ void HybridStage::run(const FrameSource& source, const FrameConsumer& consume, c
         }
         if (counting) quantile.finish_counting();
     }
-    const double scale = quantile.scale();
+    analysis.guide_scale = quantile.scale();
+    analysis.temporal = &temporal_frames;
+    analysis.first_pass = &first_pass;
+    analysis.guides = &guide_frames;
+
+    double own_share = 0;
+    for (const int64_t n : own_counts) own_share += static_cast<double>(n) / static_cast<double>(F * P);
+    results.set("beta_source", "none (motion compensation)");
+    results.set("motion_compensation", "optical flow on the first pass");
+    results.set("aligned_fraction", static_cast<double>(moving_count) / static_cast<double>(P));
+    results.set("own_first_pass_fraction", own_share);
+    results.set("moving_basis_fraction", 0.0);
+    results.set("diffusion_fraction", 0.0);
+    return analysis;
+}
+
+void HybridStage::window(const FrameSource& source, const HybridAnalysis& analysis, int64_t f0, int64_t f1,
+                         const FrameConsumer& consume, const StageContext& ctx, Results& results) const {
+    const Shape& s = source.shape();
+    const int64_t F = s.frames, P = s.pixels(), H = s.height, W = s.width, C = s.channels;
+    const int64_t frame_samples = P * C;
+    const Progress none;
+    const Progress& progress = ctx.progress ? *ctx.progress : none;
+    FrameStagePool refine("postfilter", refine_);
+    const auto hand_on = [&](int64_t t, float* pixels) {
+        if (options_.refine_after) refine.apply(t, pixels, s, source.attributes());
+        consume(t, pixels);
+    };
+    if (f1 <= f0) return;
+    if (analysis.still) {
+        // The still scene's frames, parked by the analysis: the light pass, then on.
+        const int threads = fitting_threads(ctx, [&](int t) {
+            return t * (static_cast<double>(frame_samples) * sizeof(float) + diffusion_working_bytes(P, C));
+        });
+        refine.keep_buffers(true);
+        parallel_for(f1 - f0, threads, [&](int64_t i) {
+            std::vector<float> frame(static_cast<size_t>(frame_samples));
+            analysis.temporal->read_rows(f0 + i, 0, H, frame.data());
+            hand_on(f0 + i, frame.data());
+        }, {progress, 0.3, 0.7, "frames"});
+        return;
+    }
+    std::vector<int64_t> pixels;
+    for (int64_t p = 0; p < P; ++p)
+        if (analysis.grown[static_cast<size_t>(p)] > 0.0f) pixels.push_back(p);
+    AlignedAverageOptions mc = options_.mc;
+    mc.frame_gain = analysis.frame_gain;
 
     // 4. The window: frame t's moving pixels averaged along the flow over t - h .. t + h, blended into
     // I_T by the moving weight. Frames enter the window once and leave when no frame still needs them.
@@ -392,7 +474,7 @@ void HybridStage::run(const FrameSource& source, const FrameConsumer& consume, c
     access.values = [&](int64_t f) { return window.at(f)->values.data(); };
     access.guide = [&](int64_t f) { return window.at(f)->guide.data(); };
     access.image = [&](int64_t f) { return window.at(f)->image.data(); };
-    const int window_threads = fitting_threads([&](int t) { return window_bytes(s, t, false); });
+    const int window_threads = fitting_threads(ctx, [&](int t) { return window_bytes(s, t, false); });
     // Where the budget holds them (window_bytes with keep), each thread keeps its frames, the average's
     // scratch and the light pass' buffers from frame to frame.
     const bool keep = window_bytes(s, window_threads, true) <= ctx.budget_bytes;
@@ -404,8 +486,8 @@ void HybridStage::run(const FrameSource& source, const FrameConsumer& consume, c
     std::vector<Worker> kept(keep ? static_cast<size_t>(window_threads) : 0);
     const int64_t h = mc.half_width, batch = window_threads;
     std::vector<double> frame_weight(static_cast<size_t>(F), 0.0);
-    for (int64_t t0 = 0; t0 < F; t0 += batch) {
-        const int64_t t1 = std::min(F, t0 + batch);
+    for (int64_t t0 = f0; t0 < f1; t0 += batch) {
+        const int64_t t1 = std::min(f1, t0 + batch);
         const int64_t lo = std::max<int64_t>(0, t0 - h), hi = std::min(F - 1, t1 - 1 + h);
         window.erase(window.begin(), window.lower_bound(lo));
         std::vector<int64_t> entering;
@@ -414,7 +496,7 @@ void HybridStage::run(const FrameSource& source, const FrameConsumer& consume, c
                 window.emplace(f, std::make_unique<WindowFrame>());
                 entering.push_back(f);
             }
-        const double at = 0.55 + 0.45 * t0 / F;
+        const double at = 0.55 + 0.45 * static_cast<double>(t0 - f0) / static_cast<double>(f1 - f0);
         parallel_for_workers(static_cast<int64_t>(entering.size()), window_threads, [&](int64_t i, int worker) {
             const int64_t f = entering[static_cast<size_t>(i)];
             WindowFrame& w = *window.at(f);
@@ -424,10 +506,10 @@ void HybridStage::run(const FrameSource& source, const FrameConsumer& consume, c
             w.values.resize(frame.size());
             w.guide.resize(frame.size());
             w.image.resize(static_cast<size_t>(P));
-            read_input(f, frame.data());
-            aligned_values(frame.data(), frame_samples, gain(f), mc.transform, w.values.data());
-            guide_frames.read_rows(f, 0, H, w.guide.data());
-            flow_image(w.guide.data(), W, H, C, scale, w.image.data());
+            read_input(source, analysis, f, frame.data());
+            aligned_values(frame.data(), frame_samples, gain_of(analysis, f), mc.transform, w.values.data());
+            analysis.guides->read_rows(f, 0, H, w.guide.data());
+            flow_image(w.guide.data(), W, H, C, analysis.guide_scale, w.image.data());
         }, {progress, at, 0, "motion compensation"});
         parallel_for_workers(t1 - t0, window_threads, [&](int64_t i, int worker) {
             const int64_t t = t0 + i;
@@ -435,14 +517,14 @@ void HybridStage::run(const FrameSource& source, const FrameConsumer& consume, c
             Worker& wk = keep ? kept[static_cast<size_t>(worker)] : own;
             std::vector<float>& out = wk.out;
             out.resize(static_cast<size_t>(frame_samples));
-            temporal_frames.read_rows(t, 0, H, out.data());
+            analysis.temporal->read_rows(t, 0, H, out.data());
             if (!pixels.empty()) {
                 std::vector<float>& aligned = wk.aligned;
                 aligned.resize(out.size());
-                first_pass.read_rows(t, 0, H, aligned.data());  // a pixel with nothing to average keeps it
+                analysis.first_pass->read_rows(t, 0, H, aligned.data());  // a pixel with nothing to average keeps it
                 frame_weight[static_cast<size_t>(t)] = averager.average(t, access, aligned.data(), wk.scratch);
                 for (const int64_t p : pixels) {
-                    const float w = grown.at<float>(static_cast<int>(p));
+                    const float w = analysis.grown[static_cast<size_t>(p)];
                     for (int64_t c = 0; c < C; ++c) {
                         float& o = out[static_cast<size_t>(p * C + c)];
                         o += w * (aligned[static_cast<size_t>(p * C + c)] - o);
@@ -454,19 +536,12 @@ void HybridStage::run(const FrameSource& source, const FrameConsumer& consume, c
                 }
             }
             hand_on(t, out.data());
-        }, {progress, at, 0.45 * static_cast<double>(t1 - t0) / F, "motion compensation"});
+        }, {progress, at, 0.45 * static_cast<double>(t1 - t0) / static_cast<double>(f1 - f0), "motion compensation"});
     }
+    // The mean summed weight of the averaged pixel-frames of these frames.
     double weights = 0;
     for (double v : frame_weight) weights += v;
-    results.set("beta_source", "none (motion compensation)");
-    results.set("motion_compensation", "optical flow on the first pass");
-    results.set("aligned_fraction", static_cast<double>(pixels.size()) / static_cast<double>(P));
-    double own_share = 0;
-    for (const int64_t n : own_counts) own_share += static_cast<double>(n) / static_cast<double>(F * P);
-    results.set("own_first_pass_fraction", own_share);
-    results.set("aligned_frames", pixels.empty() ? 0.0 : weights / static_cast<double>(F * static_cast<int64_t>(pixels.size())));
-    results.set("moving_basis_fraction", 0.0);
-    results.set("diffusion_fraction", 0.0);
+    results.set("aligned_frames", pixels.empty() ? 0.0 : weights / static_cast<double>((f1 - f0) * static_cast<int64_t>(pixels.size())));
 }
 
 }  // namespace statfilter

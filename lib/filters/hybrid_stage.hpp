@@ -12,9 +12,13 @@
 //      flow (statfilter/aligned_frame.hpp), blended into I_T by the moving weight, handed on.
 // Memory: a band, the temporal model and per-pixel maps, then the window's frames; never the shot.
 // In memory the same stage runs over the sequence (bands are then the whole frame): one
-// implementation, the same numbers either way.
+// implementation, the same numbers either way. Steps 1-3 (analyse) and step 4 (window) are separate
+// calls, so a plan's tasks can make the analysis once and the frames in chunks
+// (filters/hybrid_analysis_file.hpp): a frame's window reads only frames t - h .. t + h.
 #pragma once
 #include <memory>
+#include <utility>
+#include <vector>
 
 #include "pipeline/low_rank_stage.hpp"
 #include "pipeline/stage.hpp"
@@ -44,7 +48,23 @@ HybridStageOptions hybrid_stage_options(const ParamSet& hybrid_params, bool pref
 // renderer pass (albedo, normal, vectors) to read alongside, which still run in memory.
 bool hybrid_streams(const ParamSet& hybrid_params, bool names_passes);
 
-class HybridStage final : public StreamStage {
+// What the window (step 4) needs from the passes before it.
+struct HybridAnalysis {
+    // A still scene: the frames are global PCA's; the window only hands them on (through the light pass).
+    bool still = false;
+    std::vector<float> grown;        // per pixel: the moving weight grown by mc_dilate (> 0: averaged)
+    std::vector<double> frame_gain;  // the aligned average's light level of each frame (empty: constant)
+    double guide_scale = 0;          // the flow images' scale (the guides' 99.5th percentile)
+    // Per frame: the samples (index in the frame, value) the statistics pass found to be fireflies.
+    std::vector<std::vector<std::pair<int64_t, float>>> fireflies;
+    // The frames: I_T (the still scene's frames when still), each frame's first pass and its flow
+    // guide (not made when still). Parked on scratch by analyse, or read from a plan's files
+    // (filters/hybrid_analysis_file.hpp).
+    const FrameSource *temporal = nullptr, *first_pass = nullptr, *guides = nullptr;
+    std::vector<std::unique_ptr<FrameSource>> held;  // owns the sources above
+};
+
+class HybridStage final : public StreamStage, public WindowedStage {
 public:
     explicit HybridStage(HybridStageOptions options);
     Footprint footprint() const override;
@@ -54,6 +74,25 @@ public:
     // bands.
     void run(const FrameSource& source, const FrameConsumer& consume, const StageContext& context,
              Results& results) override;
+    // Steps 1-3. A still scene's frames go to `still_frames` as they are rebuilt (the light pass not
+    // yet run); without one they are parked (analysis.temporal) for the window to hand on.
+    HybridAnalysis analyse(const FrameSource& source, const StageContext& context, Results& results,
+                           const FrameConsumer* still_frames) const;
+    // Step 4 for frames [f0, f1): each handed to `consume` once, in any order, from worker threads.
+    // Reads frames f0 - h .. f1 - 1 + h of source and of the analysis' frames.
+    void window(const FrameSource& source, const HybridAnalysis& analysis, int64_t f0, int64_t f1,
+                const FrameConsumer& consume, const StageContext& context, Results& results) const;
+    // The least memory the window over frames of this shape needs on one thread (a plan's frame task).
+    double window_min_bytes(const Shape& shape) const { return window_bytes(shape, 1, false); }
+
+    // As a plan's tasks: analyse, saved (filters/hybrid_analysis_file.hpp); then the window.
+    const WindowedStage* windowed() const override { return this; }
+    int64_t window_half() const override { return options_.mc.half_width; }
+    double frames_min_bytes(const Shape& shape) const override { return window_min_bytes(shape); }
+    void analyse_into(const FrameSource& source, const std::string& dir, const StageContext& context,
+                      Results& results) const override;
+    void frames_from(const FrameSource& source, const std::string& dir, int64_t f0, int64_t f1,
+                     const FrameConsumer& consume, const StageContext& context, Results& results) const override;
 
 private:
     double analysis_bytes(const Shape& shape) const;

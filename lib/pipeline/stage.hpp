@@ -3,6 +3,7 @@
 // from Filter::stream_stage(); the others run on the whole shot in memory.
 #pragma once
 #include <functional>
+#include <string>
 
 #include "pipeline/footprint.hpp"
 #include "pipeline/frame_source.hpp"
@@ -22,6 +23,8 @@ struct StageContext {
 // from worker threads, each frame once, in any order.
 using FrameConsumer = std::function<void(int64_t frame, float* pixels)>;
 
+class WindowedStage;
+
 class StreamStage {
 public:
     virtual ~StreamStage() = default;
@@ -36,6 +39,29 @@ public:
     virtual const StreamStage& core() const { return *this; }
     // What a wrapper reports before its inner stage runs (the preset's choice and reason).
     virtual void annotate(Results& results) const { (void)results; }
+    // The stage as an analysis and frame windows, when it can run that way (else null).
+    virtual const WindowedStage* windowed() const { return nullptr; }
+};
+
+// A stage whose frames, once its passes over the whole shot are made, each need only the frames
+// t - h .. t + h around them (the hybrid's window): a plan runs the passes once, saving what the
+// frames need in a directory, and the frames in chunks from it, each chunk on its own, with the same
+// numbers as the stage's run.
+class WindowedStage {
+public:
+    virtual ~WindowedStage() = default;
+    // Frames each side a frame's window reads.
+    virtual int64_t window_half() const = 0;
+    // The least memory of a chunk of frames on one thread.
+    virtual double frames_min_bytes(const Shape& shape) const = 0;
+    // The passes over the shot; what the frames need is written into dir (existing, empty). Results:
+    // what the run reports of the analysis (its choice, the motion it measured).
+    virtual void analyse_into(const FrameSource& source, const std::string& dir, const StageContext& context,
+                              Results& results) const = 0;
+    // Frames [f0, f1) made from the analysis in dir, each handed to consume once (any order, worker
+    // threads). Results: the analysis' choice ("method", "reason") and what these frames report.
+    virtual void frames_from(const FrameSource& source, const std::string& dir, int64_t f0, int64_t f1,
+                             const FrameConsumer& consume, const StageContext& context, Results& results) const = 0;
 };
 
 // The stage over a sequence in memory: the source is the sequence itself (no copy), the frames go

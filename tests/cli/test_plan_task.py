@@ -20,7 +20,11 @@ CASES = [
     (["--quality", "fast"], ["--tiles", "4"], "tiles", False),
     (["--method", "copy"], ["--frames-per-task", "5"], "frames", True),
     (["--method", "diffusion"], [], "frames", True),
-    (["--quality", "balanced"], [], "shot", True),
+    (["--quality", "balanced"], [], "window", True),
+    (["--quality", "balanced"], ["--frames-per-task", "5"], "window", True),
+    (["--method", "hybrid", "--mc_half_width", "2"], ["--frames-per-task", "3"], "window", True),
+    (["--quality", "balanced", "--postfilter", "diffusion"], ["--frames-per-task", "6"], "window", True),
+    (["--quality", "balanced", "--prefilter", "diffusion"], [], "shot", True),
 ]
 
 
@@ -87,6 +91,33 @@ def test_a_killed_task_leaves_no_frame_and_its_rerun_completes(sample_noisy, tmp
     run("plan", sample_noisy, single, "--method", "pca", "--tiles", "3", "-o", tmp_path / "again.json", "--quiet")
     shell_run(tmp_path / "again.json")
     assert json.loads(run("compare", out, single, "--json").stdout)["rel_mse"] == 0
+
+
+def test_window_plan_reads_only_its_frames_and_reruns_change_nothing(sample_noisy, tmp_path):
+    out = tmp_path / "farm" / "o.####.exr"
+    plan = tmp_path / "plan.json"
+    run("plan", sample_noisy, out, "--quality", "balanced", "--frames-per-task", "4", "-o", plan, "--quiet")
+    tasks = json.loads(plan.read_text())
+    assert tasks["window_half"] == 4
+    # The window tasks wait for the analysis alone and read their frames and four either side.
+    assert [t["phase"] for t in tasks["tasks"]] == ["analysis"] + ["window"] * 8
+    assert tasks["tasks"][2]["frames"] == [4, 8] and tasks["tasks"][2]["read_frames"] == [0, 12]
+    assert all(t["after"] == [0] for t in tasks["tasks"][1:])
+    # A window task before the analysis fails, naming what is missing, and writes no frame.
+    proc = run("task", plan, 1, "--quiet", check_rc=None)
+    assert proc.returncode != 0 and "run the analysis task first" in proc.stderr
+    assert not list((tmp_path / "farm").glob("o.*.exr"))
+    shell_run(plan)
+    work = tmp_path / "plan.json.work"
+    report = json.loads((work / "task-2.json").read_text())
+    frame_bytes = 160 * 120 * 3 * 4
+    assert report["pixel_bytes_read"] == 12 * frame_bytes  # frames 0-11 of the input, once each
+    first = {p.name: p.read_bytes() for p in (tmp_path / "farm").glob("o.*.exr")}
+    # The analysis run again (as a farm retries a task), then a window task: the same frames.
+    run("task", plan, 0, "--quiet")
+    run("task", plan, 3, "--quiet")
+    assert not [p for p in work.iterdir() if ".tmp-" in p.name]  # no temporary left
+    assert {p.name: p.read_bytes() for p in (tmp_path / "farm").glob("o.*.exr")} == first
 
 
 def test_plan_checks_before_any_work(sample_noisy, tmp_path):
