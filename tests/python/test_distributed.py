@@ -44,7 +44,7 @@ def test_plans_say_what_is_tiled(shared_data, tmp_path):
         plan = sd.write_plan(src, str(tmp_path / name / "o.####.exr"), str(tmp_path / (name + ".json")), tiles=3, **params)
         kinds[name] = plan["kind"]
         assert plan["reason"]
-    assert kinds == {"pca": "tiles", "fast": "tiles", "copy": "frames", "balanced": "shot"}
+    assert kinds == {"pca": "tiles", "fast": "tiles", "copy": "frames", "balanced": "window"}
 
 
 try:  # the Dask tests need the extra; the two above run without it
@@ -71,6 +71,7 @@ def client():
     ({"method": "error-threshold", "firefly_z": 0}, True),
     ({"quality": "fast"}, False),  # fireflies judged per band: relMSE bound (docs/distributed.md)
     ({"method": "copy"}, True),
+    ({"quality": "balanced"}, True),  # the analysis, then windows of frames
 ])
 def test_two_workers_match_the_single_process_run(shared_data, tmp_path, client, params, identical):
     src = scene(shared_data)
@@ -91,6 +92,10 @@ def test_two_workers_match_the_single_process_run(shared_data, tmp_path, client,
         assert set(report["phases"]) == {"statistics", "reduce", "reconstruct", "assemble"}
         assert report["phases"]["statistics"]["tasks"] == 3
         assert "rank" in report["results"] or "mean_rank" in report["results"]
+    if report["kind"] == "window":
+        assert set(report["phases"]) == {"analysis", "window"}
+        assert report["phases"]["window"]["tasks"] == 4
+        assert report["results"]["method"].startswith("hybrid") and report["results"]["motion_fraction"] > 0
 
 
 def kill_once_plugin(marker, phase):
@@ -110,18 +115,24 @@ def kill_once_plugin(marker, phase):
 
 
 @needs_dask
-def test_a_worker_killed_mid_task_still_gives_the_same_complete_output(shared_data, tmp_path):
+@pytest.mark.parametrize("params,phase", [
+    ({"method": "pca", "firefly_z": 0, "tile_rows": 20}, "reconstruct"),
+    ({"quality": "balanced", "frames_per_task": 8}, "window"),
+])
+def test_a_worker_killed_mid_task_still_gives_the_same_complete_output(shared_data, tmp_path, params, phase):
     src = scene(shared_data)
     single = tmp_path / "single" / "o.####.exr"
-    statfilter.Filter("pca", firefly_z=0).run_files(src, str(single))
+    p = {k: v for k, v in params.items() if k not in ("tile_rows", "frames_per_task")}
+    method = "auto" if "quality" in p else p.pop("method")
+    statfilter.Filter(method, **p).run_files(src, str(single))
     marker = str(tmp_path / "killed")
     cluster = dask_distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
                                             dashboard_address=":0")
     try:
         with dask_distributed.Client(cluster) as c:
-            c.register_plugin(kill_once_plugin(marker, "reconstruct"))
+            c.register_plugin(kill_once_plugin(marker, phase))
             out = tmp_path / "dask" / "o.####.exr"
-            report = sd.denoise(src, str(out), client=c, method="pca", firefly_z=0, tile_rows=20, progress=False)
+            report = sd.denoise(src, str(out), client=c, progress=False, **params)
     finally:
         cluster.close()
     assert os.path.exists(marker)  # a worker did die
