@@ -8,6 +8,7 @@ Frames are made from the shipped sample as bench/streaming_benchmark.py makes th
 
     python3 bench/distributed_benchmark.py            # both parts
     python3 bench/distributed_benchmark.py --model-only   # the model again from docs/distributed.json
+    python3 bench/distributed_benchmark.py --balanced     # --quality balanced (analysis + windows) alone
 Build first: bash scripts/build.sh build-release -DCMAKE_BUILD_TYPE=Release
 """
 import argparse
@@ -35,7 +36,7 @@ def cli_env(build):
     return dict(os.environ, PYTHONPATH=str(build / "python"), STATFILTER_LIBRARY=str(build / "capi" / "libstatfilter.so.0"))
 
 
-def dask_run(build, shot, out, workers, params, tile_rows):
+def dask_run(build, shot, out, workers, params, tile_rows, frames_per_task=0):
     """One Dask run in a child process (its own cluster): (wall of the run, report)."""
     code = f"""
 import json, sys, time
@@ -46,6 +47,7 @@ if __name__ == "__main__":
     client = Client(cluster)
     t = time.perf_counter()
     r = sd.denoise({str(shot / 'in.####.exr')!r}, {str(out)!r}, client=client, tile_rows={tile_rows}, threads=1,
+                   frames_per_task={frames_per_task},
                    progress=False, **{params!r})
     r["wall"] = time.perf_counter() - t
     client.close(); cluster.close()
@@ -99,6 +101,33 @@ def measure_1080p(build, work, cli):
             print({k: v for k, v in rows[-1].items() if k != "phases"}, flush=True)
     input_bytes = sum(p.stat().st_size for p in shot.glob("in.*.exr"))
     return dict(shot="1920x1080x32", input_bytes=input_bytes, rows=rows)
+
+
+def measure_balanced_1080p(build, work, cli):
+    """--quality balanced on 1080p x 32: the CLI at 1 and 2 threads, the plan (one analysis task, then
+    windows of 4 frames) on 1 and 2 Dask workers, in one run."""
+    shot = make_frames(work, 1920, 1080, 32)
+    rows = []
+    single = work / "single" / "o.####.exr"
+    for threads in (1, 2):
+        shutil.rmtree(work / "single", ignore_errors=True)
+        env = dict(os.environ, OPENBLAS_NUM_THREADS="1", OMP_NUM_THREADS="1") if threads == 1 else None
+        rc, wall, cpu, rss, tail = timed([cli, "denoise", shot / "in.####.exr", single, "--quality", "balanced",
+                                          "--threads", str(threads), "--quiet"], env)
+        if rc:
+            sys.exit(tail)
+        rows.append(dict(config="--quality balanced", runner="statfilter denoise", slots=threads, wall=wall, cpu=cpu, rss=rss))
+        print(rows[-1], flush=True)
+    for workers in (1, 2):
+        out = work / f"dask{workers}" / "o.####.exr"
+        shutil.rmtree(out.parent, ignore_errors=True)
+        r = dask_run(build, shot, out, workers, {"quality": "balanced"}, 0, 4)
+        rows.append(dict(config="--quality balanced", runner="statfilter.distributed (Dask)", slots=workers,
+                         wall=r["wall"], cpu=r["cpu_seconds"], tasks=r["tasks"], phases=r["phases"],
+                         pixel_bytes_read=r["pixel_bytes_read"], bytes_written=r["bytes_written"],
+                         rel_mse_to_single=rel_mse(cli, str(out), str(single)), results=r["results"]))
+        print({k: v for k, v in rows[-1].items() if k != "results"}, flush=True)
+    return dict(shot="1920x1080x32", input_bytes=sum(p.stat().st_size for p in shot.glob("in.*.exr")), rows=rows)
 
 
 def run_task(cli, plan, index):
@@ -197,10 +226,16 @@ def main():
     ap.add_argument("--build", default=str(ROOT / "build-release"))
     ap.add_argument("--work", default=str(ROOT / "build-release" / "bench-frames"))
     ap.add_argument("--model-only", action="store_true")
+    ap.add_argument("--balanced", action="store_true", help="measure --quality balanced alone (docs/distributed_balanced.json)")
     args = ap.parse_args()
     build, work = Path(args.build), Path(args.work)
     cli = str(build / "tools" / "statfilter")
     docs = ROOT / "docs"
+    if args.balanced:
+        work.mkdir(parents=True, exist_ok=True)
+        data = measure_balanced_1080p(build, work, cli)
+        (docs / "distributed_balanced.json").write_text(json.dumps(data, indent=1))
+        return
     data_path = docs / "distributed.json"
     if args.model_only:
         data = json.loads(data_path.read_text())

@@ -244,6 +244,9 @@ void window_task(Run& run, const JsonValue& task, int64_t index) {
     const auto [f0, f1] = range(task, "frames", "task");
     std::unique_ptr<StreamStage> holder;
     const WindowedStage& stage = windowed_stage(run, holder);
+    // The analysis there before any frame is staged (a task run before it fails here, leaving nothing).
+    if (!fs::exists(run.work.analysis() + "/analysis.json"))
+        throw Error(Status::Io, "the analysis ('" + run.work.analysis() + "') is not there: run the analysis task first");
     CountingSource counted(*run.context.source, run.pixels_read);
     const auto attributes = frame_range_attributes(run.context.source->attributes(), f0, f1);
     const std::string staging = staging_dir(run.plan, index);

@@ -41,13 +41,18 @@ class Folder:
         if kind == "denoise":
             run("plan", noisy, self.out / "o.####.exr", "--method", "pca", "--tiles", "4", "--frames-per-task", "32",
                 "-o", self.plan, "--quiet")
-        elif kind == "shot":  # balanced: one task runs the whole shot and writes the frames
-            run("plan", noisy, self.out / "o.####.exr", "--quality", "balanced", "-o", self.plan, "--quiet")
+        elif kind == "shot":  # one task runs the whole shot and writes the frames
+            run("plan", noisy, self.out / "o.####.exr", "--quality", "balanced", "--prefilter", "diffusion",
+                "-o", self.plan, "--quiet")
+        elif kind == "window":  # balanced: the analysis (a directory), then chunks of frames
+            run("plan", noisy, self.out / "o.####.exr", "--quality", "balanced", "--frames-per-task", "8",
+                "-o", self.plan, "--quiet")
         else:
             run("plan", "detect", denoised, "--noisy", noisy, "--mask", self.out / "m.####.exr",
                 "--crops", self.out / "crops.json", "--tiles", "4", "-o", self.plan, "--quiet")
         self.tasks = json.loads(self.plan.read_text())["tasks"]
-        assert (json.loads(self.plan.read_text())["kind"] == "shot") == (kind == "shot")
+        expected = {"denoise": "tiles", "detect": "detect", "shot": "shot", "window": "window"}[kind]
+        assert json.loads(self.plan.read_text())["kind"] == expected
         self.work = Path(json.loads(self.plan.read_text())["work"])
 
     def finals(self):
@@ -59,10 +64,16 @@ class Folder:
         return found
 
     def work_files(self):
-        """The work directory's finished files (what later tasks read), by name; not the task reports,
-        which carry their seconds."""
-        return {p.name: p.read_bytes() for p in (self.work.iterdir() if self.work.exists() else [])
-                if not is_temporary(p.name) and not (p.name.startswith("task-") and p.suffix == ".json")}
+        """The work directory's finished files (what later tasks read), by path within it (a window
+        plan's analysis is a directory); not the task reports, which carry their seconds."""
+        found = {}
+        for p in sorted(self.work.rglob("*")) if self.work.exists() else []:
+            rel = p.relative_to(self.work)
+            if p.is_dir() or any(is_temporary(part) for part in rel.parts):
+                continue
+            if not (p.name.startswith("task-") and p.suffix == ".json"):
+                found[str(rel)] = p.read_bytes()
+        return found
 
     def temporaries(self):
         left = [p for p in self.work.iterdir() if is_temporary(p.name)] if self.work.exists() else []
@@ -81,7 +92,7 @@ def shot(tmp_path_factory):
         shutil.copy(SAMPLE / "cornell_moving" / "spp0004" / f"indirect.{f:04d}.exr", root / "in" / f"noisy.{f:04d}.exr")
     noisy = root / "in" / "noisy.####.exr"
     shot = {"root": root, "noisy": noisy}
-    for kind in ("denoise", "detect", "shot"):
+    for kind in ("denoise", "detect", "shot", "window"):
         a = Folder(root / f"A-{kind}", kind, noisy, denoised=shot.get("denoised"))
         for task in a.tasks:
             task_run(a.plan, task["index"])
@@ -90,7 +101,7 @@ def shot(tmp_path_factory):
         if kind == "denoise":
             shot["denoised"] = a.out / "o.####.exr"  # the detect plan's input
     assert len(shot["denoise"].finals()) == FRAMES and len(shot["detect"].finals()) == FRAMES + 1
-    assert len(shot["shot"].finals()) == FRAMES
+    assert len(shot["shot"].finals()) == FRAMES and len(shot["window"].finals()) == FRAMES
     return shot
 
 
@@ -140,10 +151,10 @@ def start_and_kill(folder, index, when):
 
 
 # (plan, the phase of the task killed: the first of that phase). The reconstruction and detect tasks
-# write the files the next phase reads; the assembly and masks tasks write the final outputs, and so
-# does a shot plan's one task.
+# write the files the next phase reads (the analysis a directory of them); the assembly, masks and
+# window tasks write the final outputs, and so does a shot plan's one task.
 TARGETS = [("denoise", "reconstruct"), ("denoise", "assemble"), ("detect", "detect"), ("detect", "masks"),
-           ("shot", "shot")]
+           ("shot", "shot"), ("window", "analysis"), ("window", "window")]
 
 
 @pytest.mark.parametrize("when", ["first-file", "writing"])
