@@ -220,6 +220,21 @@ TemporalChange::TemporalChange(const Shape& shape, const TemporalChangeOptions& 
     map_->channel_names()[0] = "moving";
 }
 
+std::unique_ptr<TemporalChange> TemporalChange::from_model(const Shape& shape, const TemporalChangeOptions& options,
+                                                           TemporalChangeModel model) {
+    if (model.sigma.size() != static_cast<size_t>(shape.pixels()) || model.centre.size() != model.sigma.size() ||
+        model.departures.size() != model.sigma.size() || (!model.gain.empty() && model.gain.size() != static_cast<size_t>(shape.frames)))
+        throw Error(Status::InvalidArgument, "the temporal-change test's saved model does not fit the shot's shape");
+    auto change = std::make_unique<TemporalChange>(shape, options);
+    change->gain_ = std::move(model.gain);
+    change->sigma_ = std::move(model.sigma);
+    change->centre_ = std::move(model.centre);
+    change->unit_ = model.unit;
+    change->floor_ = model.floor;
+    change->departures_ = std::move(model.departures);
+    return change;
+}
+
 bool TemporalChange::active() const { return shape_.frames >= 3; }  // fewer: noise and motion look alike
 
 namespace {

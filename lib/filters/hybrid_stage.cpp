@@ -62,6 +62,10 @@ void read_input(const FrameSource& source, const HybridAnalysis& analysis, int64
         for (const auto& [i, v] : analysis.fireflies[static_cast<size_t>(f)]) frame[i] = v;
 }
 
+int64_t count_moving(const HybridAnalysis& analysis) {
+    return static_cast<int64_t>(std::count_if(analysis.grown.begin(), analysis.grown.end(), [](float g) { return g > 0.0f; }));
+}
+
 double gain_of(const HybridAnalysis& analysis, int64_t f) {
     return analysis.frame_gain.empty() ? 1.0 : analysis.frame_gain[static_cast<size_t>(f)];
 }
@@ -184,6 +188,20 @@ void HybridStage::frames_from(const FrameSource& source, const std::string& dir,
 
 HybridAnalysis HybridStage::analyse(const FrameSource& source, const StageContext& ctx, Results& results,
                                     const FrameConsumer* still_output) const {
+    HybridAnalysis analysis = analyse_passes(source, ctx, results, still_output);
+    if (analysis.still) return analysis;
+    auto first = std::make_unique<ScratchFrames>(source.shape(), source.attributes());
+    ScratchFrames& parked = *first;
+    first_pass(source, analysis, 0, source.shape().frames, [&](int64_t t, const float* pixels) { parked.write_frame(t, pixels); },
+               ctx);
+    analysis.first_pass = first.get();
+    analysis.held.push_back(std::move(first));
+    guides(source.shape(), analysis, source.attributes(), ctx, results);
+    return analysis;
+}
+
+HybridAnalysis HybridStage::analyse_passes(const FrameSource& source, const StageContext& ctx, Results& results,
+                                           const FrameConsumer* still_output) const {
     const Shape& s = source.shape();
     const int64_t F = s.frames, P = s.pixels(), C = s.channels, H = s.height, W = s.width;
     const int64_t frame_samples = P * C;
@@ -307,14 +325,9 @@ HybridAnalysis HybridStage::analyse(const FrameSource& source, const StageContex
     if (options_.mc_dilate > 0)
         cv::dilate(grown, grown, cv::Mat::ones(2 * options_.mc_dilate + 1, 2 * options_.mc_dilate + 1, CV_8U));
     analysis.grown.assign(grown.ptr<float>(), grown.ptr<float>() + P);
-    std::vector<uint8_t> moving(static_cast<size_t>(P), 0);
-    int64_t moving_count = 0;
-    for (int64_t p = 0; p < P; ++p)
-        if (analysis.grown[static_cast<size_t>(p)] > 0.0f) moving[static_cast<size_t>(p)] = 1, ++moving_count;
-    // The change test stays for the own first pass' test of I_T, frame by frame (maps_bytes).
-    const OwnFirstPass own_first(s, std::move(own_weight), test_change ? &change : nullptr, moving,
-                                 options_.mc.half_width, options_.single_frame);
-    std::vector<int64_t> own_counts(static_cast<size_t>(F), 0);
+    // The own first pass' inputs: the crossings, and the change test for its test of I_T (maps_bytes).
+    analysis.crossings = std::move(own_weight);
+    if (test_change) analysis.change = std::move(change_test);
 
     // The fireflies the statistics pass found, frame by frame: the temporal model never saw them, and
     // neither may the frame's own diffusion or the average along the flow, which read the input again
@@ -324,42 +337,74 @@ HybridAnalysis HybridStage::analyse(const FrameSource& source, const StageContex
         const int64_t p = o.series / group.group.count, c = group.group.first + o.series % group.group.count;
         analysis.fireflies[static_cast<size_t>(o.frame)].emplace_back(p * C + c, static_cast<float>(o.value));
     }
-    // I_T and the first pass it is checked against (I_T with the light diffusion pass; the frame's
-    // own diffusion where I_T ghosts: the flow then follows the object, and a pixel with nothing to
-    // average is no worse than a single-frame filter), frame by frame, parked; the first pass' sums
-    // as they come.
+    // I_T, frame by frame, parked. The model gets the budget and threads it had when the first
+    // passes were made beside it (the same bands, the same numbers).
     ScratchFrames& temporal_frames = *park();
-    ScratchFrames& first_pass = *park();
-    std::vector<double> sums(static_cast<size_t>(F)), still_levels(static_cast<size_t>(F));
-    const Progress rebuild = part_of(progress, 0.3, 0.2);
+    const Progress rebuild = part_of(progress, 0.3, 0.05);
     inner.progress = &rebuild;
-    // As many threads as the budget holds frames being rebuilt and diffused (min_bytes: one).
-    // The light pass keeps its buffers from frame to frame where the budget holds them at the same
-    // thread count (they save the system zeroing fresh pages for every frame; threads save more).
     inner.threads = fitting_threads(ctx, [&](int t) { return rebuild_bytes(s, t, false); });
     const bool keep_rebuild = rebuild_bytes(s, inner.threads, true) <= ctx.budget_bytes;
-    refine.keep_buffers(keep_rebuild);
     inner.budget_bytes = ctx.budget_bytes - maps_bytes(s) - first_pass_bytes(s, inner.threads, keep_rebuild);
+    temporal.reconstruct(source, std::move(stats), [&](int64_t t, float* pixels) { temporal_frames.write_frame(t, pixels); },
+                         inner, own);
+    analysis.temporal = &temporal_frames;
+    for (const char* name : {"rank", "mean_rank"})
+        if (own.has(name)) results.copy(own, name, std::string("temporal_") + name);
+    results.set("beta_source", "none (motion compensation)");
+    results.set("motion_compensation", "optical flow on the first pass");
+    const int64_t moving_count = count_moving(analysis);
+    results.set("aligned_fraction", static_cast<double>(moving_count) / static_cast<double>(P));
+    results.set("moving_basis_fraction", 0.0);
+    results.set("diffusion_fraction", 0.0);
+    return analysis;
+}
+
+void HybridStage::first_pass(const FrameSource& source, HybridAnalysis& analysis, int64_t f0, int64_t f1,
+                             const std::function<void(int64_t, const float*)>& park, const StageContext& ctx) const {
+    const Shape& s = source.shape();
+    const int64_t F = s.frames, P = s.pixels(), C = s.channels, H = s.height;
+    const int64_t frame_samples = P * C;
+    const Progress none;
+    const Progress& progress = ctx.progress ? *ctx.progress : none;
+    std::vector<uint8_t> moving(static_cast<size_t>(P), 0);
+    for (int64_t p = 0; p < P; ++p) moving[static_cast<size_t>(p)] = analysis.grown[static_cast<size_t>(p)] > 0.0f ? 1 : 0;
+    const OwnFirstPass own_first(s, analysis.crossings, analysis.change.get(), moving, options_.mc.half_width,
+                                 options_.single_frame);
+    for (auto* v : {&analysis.first_sums, &analysis.still_levels}) v->resize(static_cast<size_t>(F), 0.0);
+    analysis.own_counts.resize(static_cast<size_t>(F), 0);
+    // As many threads as the budget holds frames being diffused beside the model (rebuild_bytes:
+    // the rebuild's own count). The light pass keeps its buffers from frame to frame where the budget
+    // holds them at that count (they save the system zeroing fresh pages for every frame).
+    const int threads = fitting_threads(ctx, [&](int t) { return rebuild_bytes(s, t, false); });
+    const bool keep = rebuild_bytes(s, threads, true) <= ctx.budget_bytes;
+    FrameStagePool refine("postfilter", refine_);
+    refine.keep_buffers(keep);
     // The frames and the own diffusion's buffers of each thread, kept the same way (first_pass_bytes).
-    struct RebuildScratch {
-        std::vector<float> estimate, own;
+    struct FirstPassScratch {
+        std::vector<float> model, estimate, own;
         DiffusionWorkspace diffusion;
     };
-    WorkspacePool<RebuildScratch> rebuild_scratch;
-    rebuild_scratch.keep(keep_rebuild);
-    temporal.reconstruct(source, std::move(stats), [&](int64_t t, float* pixels) {
-        temporal_frames.write_frame(t, pixels);
-        auto scratch = rebuild_scratch.borrow();
+    WorkspacePool<FirstPassScratch> scratch_pool;
+    scratch_pool.keep(keep);
+    // I_T with the light diffusion pass; the frame's own diffusion where I_T ghosts (the flow then
+    // follows the object, and a pixel with nothing to average is no worse than a single-frame filter).
+    parallel_for(f1 - f0, threads, [&](int64_t i) {
+        const int64_t t = f0 + i;
+        auto scratch = scratch_pool.borrow();
+        std::vector<float>& model = scratch->model;
         std::vector<float>& estimate = scratch->estimate;
-        estimate.assign(pixels, pixels + frame_samples);
+        model.resize(static_cast<size_t>(frame_samples));
+        analysis.temporal->read_rows(t, 0, H, model.data());
+        estimate = model;
         refine.apply(t, estimate.data(), s, source.attributes());
         if (!own_first.never()) {
             std::vector<float>& own_frame = scratch->own;
             own_frame.resize(static_cast<size_t>(frame_samples));
             read_input(source, analysis, t, own_frame.data());  // every row
-            own_counts[static_cast<size_t>(t)] = own_first.apply(t, own_frame.data(), pixels, estimate.data(), scratch->diffusion);
+            analysis.own_counts[static_cast<size_t>(t)] =
+                own_first.apply(t, own_frame.data(), model.data(), estimate.data(), scratch->diffusion);
         }
-        sums[static_cast<size_t>(t)] = positive_sum(estimate.data(), frame_samples);
+        analysis.first_sums[static_cast<size_t>(t)] = positive_sum(estimate.data(), frame_samples);
         double level = 0;
         for (int64_t p = 0; p < P; ++p)
             if (!moving[static_cast<size_t>(p)])
@@ -367,24 +412,29 @@ HybridAnalysis HybridStage::analyse(const FrameSource& source, const StageContex
                     const float v = estimate[static_cast<size_t>(p * C + c)];
                     if (v > 0 && std::isfinite(v)) level += v;
                 }
-        still_levels[static_cast<size_t>(t)] = level;
-        first_pass.write_frame(t, estimate.data());
-    }, inner, own);
-    refine.release();  // the rebuild's threads' buffers; the window counts its own (window_bytes)
-    rebuild_scratch.release();
-    for (const char* name : {"rank", "mean_rank"})
-        if (own.has(name)) results.copy(own, name, std::string("temporal_") + name);
+        analysis.still_levels[static_cast<size_t>(t)] = level;
+        park(t, estimate.data());
+    }, {progress, 0.35, 0.15, "first pass"});
+}
 
+void HybridStage::guides(const Shape& s, HybridAnalysis& analysis, const Sequence& attributes, const StageContext& ctx,
+                         Results& results) const {
+    const int64_t F = s.frames, P = s.pixels(), H = s.height;
+    const int64_t frame_samples = P * s.channels;
+    const Progress none;
+    const Progress& progress = ctx.progress ? *ctx.progress : none;
     double total = 0;
-    for (double v : sums) total += v;
+    for (double v : analysis.first_sums) total += v;
     const double mean = estimate_mean(total, F * frame_samples);
     // Each frame's light level where nothing moves (its first pass summed over the still pixels, over
     // the shot's mean of that sum), so the aligned averages follow a global light change; none
     // (constant) when under 5% of the frame is still, where frame sums would measure content, not light.
+    const int64_t moving_count = count_moving(analysis);
+    analysis.frame_gain.clear();
     if (P - moving_count >= P / 20) {
         double level_mean = 0;
-        for (double l : still_levels) level_mean += l / static_cast<double>(F);
-        analysis.frame_gain = still_levels;
+        for (double l : analysis.still_levels) level_mean += l / static_cast<double>(F);
+        analysis.frame_gain = analysis.still_levels;
         for (double& l : analysis.frame_gain) {
             if (!(level_mean > 0) || !(l > 0)) {
                 analysis.frame_gain.clear();
@@ -397,7 +447,8 @@ HybridAnalysis HybridStage::analyse(const FrameSource& source, const StageContex
     // The flow images' scale: the guide's 99.5th percentile, in two reads of the guides. Each frame's
     // guide is made once, from its first pass, and parked for the second read and the window.
     GuideScale quantile(frame_samples);
-    ScratchFrames& guide_frames = *park();
+    auto parked = std::make_unique<ScratchFrames>(s, attributes);
+    ScratchFrames& guide_frames = *parked;
     for (const bool counting : {true, false}) {
         const int64_t batch = std::max(1, ctx.threads);
         std::vector<std::vector<float>> guides(static_cast<size_t>(batch), std::vector<float>(static_cast<size_t>(frame_samples)));
@@ -407,7 +458,7 @@ HybridAnalysis HybridStage::analyse(const FrameSource& source, const StageContex
                 float* guide = guides[static_cast<size_t>(i)].data();
                 if (!counting) return guide_frames.read_rows(f0 + i, 0, H, guide);
                 std::vector<float> estimate(static_cast<size_t>(frame_samples));
-                first_pass.read_rows(f0 + i, 0, H, estimate.data());
+                analysis.first_pass->read_rows(f0 + i, 0, H, estimate.data());
                 aligned_guide(estimate.data(), frame_samples, gain_of(analysis, f0 + i), mean, guide);
                 guide_frames.write_frame(f0 + i, guide);
             }, {progress, 0.5 + (counting ? 0.0 : 0.025) + 0.025 * f0 / F, 0, "motion compensation"});
@@ -419,19 +470,11 @@ HybridAnalysis HybridStage::analyse(const FrameSource& source, const StageContex
         if (counting) quantile.finish_counting();
     }
     analysis.guide_scale = quantile.scale();
-    analysis.temporal = &temporal_frames;
-    analysis.first_pass = &first_pass;
-    analysis.guides = &guide_frames;
-
+    analysis.guides = parked.get();
+    analysis.held.push_back(std::move(parked));
     double own_share = 0;
-    for (const int64_t n : own_counts) own_share += static_cast<double>(n) / static_cast<double>(F * P);
-    results.set("beta_source", "none (motion compensation)");
-    results.set("motion_compensation", "optical flow on the first pass");
-    results.set("aligned_fraction", static_cast<double>(moving_count) / static_cast<double>(P));
+    for (const int64_t n : analysis.own_counts) own_share += static_cast<double>(n) / static_cast<double>(F * P);
     results.set("own_first_pass_fraction", own_share);
-    results.set("moving_basis_fraction", 0.0);
-    results.set("diffusion_fraction", 0.0);
-    return analysis;
 }
 
 void HybridStage::window(const FrameSource& source, const HybridAnalysis& analysis, int64_t f0, int64_t f1,

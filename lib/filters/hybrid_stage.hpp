@@ -16,6 +16,7 @@
 // calls, so a plan's tasks can make the analysis once and the frames in chunks
 // (filters/hybrid_analysis_file.hpp): a frame's window reads only frames t - h .. t + h.
 #pragma once
+#include <functional>
 #include <memory>
 #include <utility>
 #include <vector>
@@ -53,10 +54,16 @@ struct HybridAnalysis {
     // A still scene: the frames are global PCA's; the window only hands them on (through the light pass).
     bool still = false;
     std::vector<float> grown;        // per pixel: the moving weight grown by mc_dilate (> 0: averaged)
-    std::vector<double> frame_gain;  // the aligned average's light level of each frame (empty: constant)
-    double guide_scale = 0;          // the flow images' scale (the guides' 99.5th percentile)
+    std::vector<float> crossings;    // per pixel: where the change test saw motion alpha did not (may be empty)
+    std::shared_ptr<const TemporalChange> change;  // the test, for the own first pass (null: off)
     // Per frame: the samples (index in the frame, value) the statistics pass found to be fireflies.
     std::vector<std::vector<std::pair<int64_t, float>>> fireflies;
+    // Per frame, from its first pass: its positive sum, its sum over the still pixels, and the pixels
+    // given their own diffusion.
+    std::vector<double> first_sums, still_levels;
+    std::vector<int64_t> own_counts;
+    std::vector<double> frame_gain;  // the aligned average's light level of each frame (empty: constant)
+    double guide_scale = 0;          // the flow images' scale (the guides' 99.5th percentile)
     // The frames: I_T (the still scene's frames when still), each frame's first pass and its flow
     // guide (not made when still). Parked on scratch by analyse, or read from a plan's files
     // (filters/hybrid_analysis_file.hpp).
@@ -74,10 +81,23 @@ public:
     // bands.
     void run(const FrameSource& source, const FrameConsumer& consume, const StageContext& context,
              Results& results) override;
-    // Steps 1-3. A still scene's frames go to `still_frames` as they are rebuilt (the light pass not
-    // yet run); without one they are parked (analysis.temporal) for the window to hand on.
+    // Steps 1-3 in one call (analyse_passes, first_pass over every frame, guides). A still scene's
+    // frames go to `still_output` finished (through the light pass); without one they are parked
+    // (analysis.temporal) for the window to hand on.
     HybridAnalysis analyse(const FrameSource& source, const StageContext& context, Results& results,
-                           const FrameConsumer* still_frames) const;
+                           const FrameConsumer* still_output) const;
+    // Steps 1 and 2, and I_T parked (analysis.temporal): the passes over the whole shot.
+    HybridAnalysis analyse_passes(const FrameSource& source, const StageContext& context, Results& results,
+                                  const FrameConsumer* still_output) const;
+    // Step 3 for frames [f0, f1): each frame's first pass, handed to `park`, and its sums (analysis'
+    // first_sums, still_levels, own_counts; sized to the shot here). Reads those frames of I_T and
+    // the input alone.
+    void first_pass(const FrameSource& source, HybridAnalysis& analysis, int64_t f0, int64_t f1,
+                    const std::function<void(int64_t, const float*)>& park, const StageContext& context) const;
+    // Once every frame's first pass is in (analysis.first_pass and its sums): the light levels of the
+    // aligned average, the flow guides (parked: analysis.guides) and their scale.
+    void guides(const Shape& shape, HybridAnalysis& analysis, const Sequence& attributes, const StageContext& context,
+                Results& results) const;
     // Step 4 for frames [f0, f1): each handed to `consume` once, in any order, from worker threads.
     // Reads frames f0 - h .. f1 - 1 + h of source and of the analysis' frames.
     void window(const FrameSource& source, const HybridAnalysis& analysis, int64_t f0, int64_t f1,
@@ -85,7 +105,7 @@ public:
     // The least memory the window over frames of this shape needs on one thread (a plan's frame task).
     double window_min_bytes(const Shape& shape) const { return window_bytes(shape, 1, false); }
 
-    // As a plan's tasks: analyse, saved (filters/hybrid_analysis_file.hpp); then the window.
+    // As a plan's tasks (filters/hybrid_analysis_file.hpp keeps what each hands on).
     const WindowedStage* windowed() const override { return this; }
     int64_t window_half() const override { return options_.mc.half_width; }
     double frames_min_bytes(const Shape& shape) const override { return window_min_bytes(shape); }

@@ -93,6 +93,14 @@ std::shared_ptr<Sequence> motion_from_temporal_change(const Sequence& input, con
 // The same test in passes over bands of rows of every frame (each band read with kHalo rows above
 // and below where the frame has them: the two 5 x 5 median filters reach 4 rows): the frames' light
 // levels, then each pixel's centre and noise, then the scores. Any banding gives the same map.
+// What the finished test keeps for model_misses and departures (its noise, centres, per-frame gain
+// and departures), so another process (a plan's task) can ask them without running the test again.
+struct TemporalChangeModel {
+    std::vector<double> gain, sigma, centre;
+    double unit = 0, floor = 0;
+    std::vector<uint32_t> departures;
+};
+
 class TemporalChange {
 public:
     static constexpr int64_t kHalo = 4;
@@ -114,6 +122,11 @@ public:
     // from a model of the frame (the temporal reconstruction, its value taking the median's place):
     // where the model misses what the frame shows.
     void model_misses(int64_t f, const float* frame, const float* model, std::vector<uint8_t>& misses) const;
+    // Once the scores are in: what model_misses and departures read; a test made from it answers them
+    // alike (its map is not kept).
+    TemporalChangeModel model() const { return {gain_, sigma_, centre_, unit_, floor_, departures_}; }
+    static std::unique_ptr<TemporalChange> from_model(const Shape& shape, const TemporalChangeOptions& options,
+                                                      TemporalChangeModel model);
 
 private:
     bool active() const;
