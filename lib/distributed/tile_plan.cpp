@@ -92,17 +92,27 @@ std::string make_plan(const Filter& filter, const FrameSource& source, const Pla
         const int threads = request.threads > 0 ? request.threads : 1;
         check_memory_budget(stage->min_bytes(s, threads), budget, "the analysis task (" + std::to_string(s.frames) + " frames)");
         check_memory_budget(windowed->frames_min_bytes(s), budget, "a frame task");
-        reason = "the stage (" + describe(stage->footprint()) + ") as one analysis task over the shot, then chunks of " +
-                 std::to_string(per_task) + " frames, each reading " + std::to_string(h) + " frames either side" +
+        reason = "the stage (" + describe(stage->footprint()) + ") as an analysis task over the shot, first passes in chunks of " +
+                 std::to_string(per_task) + " frames, the guides, then the frames in chunks of " + std::to_string(per_task) +
+                 ", each reading " + std::to_string(h) + " frames either side" +
                  (post ? " and running the postfilter on its frames" : "");
         extra << "  \"window_half\": " << h << ",\n";
         tasks.push_back({"analysis", "\"frames\": " + range_json(0, s.frames), {}});
+        std::vector<int64_t> passes;
+        for (int64_t f = 0, chunk = 0; f < s.frames; f += per_task, ++chunk) {
+            passes.push_back(static_cast<int64_t>(tasks.size()));
+            tasks.push_back({"first_pass",
+                             "\"chunk\": " + std::to_string(chunk) + ", \"frames\": " + range_json(f, std::min(s.frames, f + per_task)),
+                             {0}});
+        }
+        const auto guides = static_cast<int64_t>(tasks.size());
+        tasks.push_back({"guides", "\"frames\": " + range_json(0, s.frames), passes});
         for (int64_t f = 0; f < s.frames; f += per_task) {
             const int64_t f1 = std::min(s.frames, f + per_task);
             tasks.push_back({"window",
                              "\"frames\": " + range_json(f, f1) + ", \"read_frames\": " +
                                  range_json(std::max<int64_t>(0, f - h), std::min(s.frames, f1 + h)),
-                             {0}});
+                             {guides}});
         }
     } else if (stage && stage->footprint().reach == TemporalReach::Frame) {
         kind = "frames";

@@ -38,6 +38,8 @@ struct Work {
     std::string tile(int64_t tile) const { return dir + "/tile-" + std::to_string(tile) + ".f32"; }
     std::string report(int64_t task) const { return dir + "/task-" + std::to_string(task) + ".json"; }
     std::string analysis() const { return dir + "/analysis"; }
+    std::string first_pass(int64_t chunk) const { return dir + "/first-" + std::to_string(chunk); }
+    std::string guides() const { return dir + "/guides"; }
 };
 
 struct Run {
@@ -226,8 +228,25 @@ const WindowedStage& windowed_stage(const Run& run, std::unique_ptr<StreamStage>
     return *windowed;
 }
 
-// The stage's passes over the whole shot, saved for the window tasks (work/analysis, made whole or
-// not at all).
+// Where the phases of a window plan leave their files, from the plan's first-pass tasks.
+WindowedFiles windowed_files(const Run& run) {
+    WindowedFiles files;
+    files.analysis = run.work.analysis();
+    files.shot_pass = run.work.guides();
+    for (const JsonValue& t : member(run.plan, "tasks", "the plan").array())
+        if (t.find("phase")->string() == "first_pass") {
+            const auto [f0, f1] = range(t, "frames", "task");
+            files.passes.push_back({f0, f1, run.work.first_pass(integer(t, "chunk", "task"))});
+        }
+    return files;
+}
+
+// Fails before the task writes anything when a phase before it has not left its directory.
+void require(const std::string& dir, const std::string& what) {
+    if (!fs::is_directory(dir)) throw Error(Status::Io, "'" + dir + "' is not there: run the " + what + " first");
+}
+
+// The stage's passes over the whole shot (work/analysis, made whole or not at all).
 void analysis_task(Run& run) {
     std::unique_ptr<StreamStage> holder;
     const WindowedStage& stage = windowed_stage(run, holder);
@@ -238,15 +257,50 @@ void analysis_task(Run& run) {
     run.outputs.push_back(run.work.analysis());
 }
 
+// The first passes of frames [f0, f1): reads those frames of the input and of I_T.
+void first_pass_task(Run& run, const JsonValue& task) {
+    const auto [f0, f1] = range(task, "frames", "task");
+    const int64_t chunk = integer(task, "chunk", "task");
+    std::unique_ptr<StreamStage> holder;
+    const WindowedStage& stage = windowed_stage(run, holder);
+    require(run.work.analysis(), "analysis task");
+    CountingSource counted(*run.context.source, run.pixels_read);
+    AtomicDirectory dir(run.work.first_pass(chunk));
+    stage.frame_pass_into(counted, windowed_files(run), f0, f1, dir.temporary(), run.stage, run.results);
+    const Shape& s = counted.shape();
+    run.bytes_read += (f1 - f0) * s.pixels() * s.channels * static_cast<int64_t>(sizeof(float));  // I_T's frames
+    run.bytes_written += dir.commit();
+    run.outputs.push_back(run.work.first_pass(chunk));
+}
+
+// What needs every frame's first pass: the flow guides and their scale.
+void guides_task(Run& run) {
+    std::unique_ptr<StreamStage> holder;
+    const WindowedStage& stage = windowed_stage(run, holder);
+    const WindowedFiles files = windowed_files(run);
+    require(files.analysis, "analysis task");
+    for (const WindowedFiles::Chunk& c : files.passes) require(c.dir, "first-pass tasks");
+    CountingSource counted(*run.context.source, run.pixels_read);
+    AtomicDirectory dir(run.work.guides());
+    stage.shot_pass_into(counted, files, dir.temporary(), run.stage, run.results);
+    const Shape& s = counted.shape();
+    if (fs::exists(dir.temporary() + "/guides.f32"))  // the first passes read, twice over the guides
+        run.bytes_read += s.frames * s.pixels() * s.channels * static_cast<int64_t>(sizeof(float)) * 2;
+    run.bytes_written += dir.commit();
+    run.outputs.push_back(run.work.guides());
+}
+
 // Frames [f0, f1) from the analysis, reading frames f0 - h .. f1 - 1 + h of the input and of the
-// analysis' frames; each output frame staged and moved into place.
+// guides; each output frame staged and moved into place.
 void window_task(Run& run, const JsonValue& task, int64_t index) {
     const auto [f0, f1] = range(task, "frames", "task");
     std::unique_ptr<StreamStage> holder;
     const WindowedStage& stage = windowed_stage(run, holder);
-    // The analysis there before any frame is staged (a task run before it fails here, leaving nothing).
-    if (!fs::exists(run.work.analysis() + "/analysis.json"))
-        throw Error(Status::Io, "the analysis ('" + run.work.analysis() + "') is not there: run the analysis task first");
+    // The phases before it there before any frame is staged (run before them, it leaves nothing).
+    const WindowedFiles files = windowed_files(run);
+    require(files.analysis, "analysis task");
+    for (const WindowedFiles::Chunk& c : files.passes) require(c.dir, "first-pass tasks");
+    require(files.shot_pass, "guides task");
     CountingSource counted(*run.context.source, run.pixels_read);
     const auto attributes = frame_range_attributes(run.context.source->attributes(), f0, f1);
     const std::string staging = staging_dir(run.plan, index);
@@ -259,7 +313,7 @@ void window_task(Run& run, const JsonValue& task, int64_t index) {
     std::unique_ptr<FrameStagePool> post;
     if (runs_postfilter(stages)) post = std::make_unique<FrameStagePool>("postfilter", stages);
     std::once_flag provenance;
-    stage.frames_from(counted, run.work.analysis(), f0, f1, [&](int64_t t, float* pixels) {
+    stage.frames_from(counted, files, f0, f1, [&](int64_t t, float* pixels) {
         // What the preset chose (the analysis said), as the single-process frames say.
         std::call_once(provenance, [&] {
             for (const char* name : {"method", "reason"})
@@ -271,10 +325,10 @@ void window_task(Run& run, const JsonValue& task, int64_t index) {
     if (post) post->add_results(run.results);
     sink->commit();
     sink.reset();
-    const auto [r0, r1] = range(task, "read_frames", "task");
     // The analysis' frames read: each frame's I_T (a still scene's frames), and with motion its first
     // pass and the guides of its window.
-    const bool still = !run.results.has("hybrid.aligned_frames");
+    const auto [r0, r1] = range(task, "read_frames", "task");
+    const bool still = !fs::exists(files.shot_pass + "/guides.f32");
     run.bytes_read += ((f1 - f0) + (still ? 0 : (f1 - f0) + (r1 - r0))) * frame_bytes;
     publish(run, staging, *attributes);
 }
@@ -318,6 +372,8 @@ std::string run_plan_task(const JsonValue& plan, int64_t index, const TaskContex
     else if (phase == "assemble") assemble_task(run, task, index);
     else if (phase == "frames") frames_task(run, task, index);
     else if (phase == "analysis") analysis_task(run);
+    else if (phase == "first_pass") first_pass_task(run, task);
+    else if (phase == "guides") guides_task(run);
     else if (phase == "window") window_task(run, task, index);
     else if (phase == "shot") shot_task(run);
     else throw Error(Status::InvalidArgument, "task " + std::to_string(index) + " has an unknown phase '" + phase + "'");

@@ -215,7 +215,7 @@ public:
         add_hybrid_results(own, still, results);
     }
 
-    // A plan's tasks (balanced without OIDN): the analysis in one, the frames in chunks.
+    // A plan's tasks (balanced without OIDN): the hybrid's phases, each on the shot at one light level.
     const WindowedStage* windowed() const override { return oidn_ ? nullptr : this; }
     int64_t window_half() const override { return half_width_; }
     double frames_min_bytes(const Shape& shape) const override { return stage_.window_min_bytes(shape); }
@@ -228,44 +228,66 @@ public:
         if (light_levels_) light = measure_light_levels(source, context.threads);
         const LevelledSource levelled(source, light);
         const HybridAnalysis analysis =
-            stage_.analyse(light.modelled ? static_cast<const FrameSource&>(levelled) : source, context, own, nullptr);
+            stage_.analyse_passes(light.modelled ? static_cast<const FrameSource&>(levelled) : source, context, own, nullptr);
         const bool still = report_choice(own, noise, results);
         if (light_levels_) report_light_levels(light, results);
         add_hybrid_results(own, still, results);
         std::string levels, channels;
         for (double l : light.levels) levels += (levels.empty() ? "" : ", ") + json_number(l);
         for (uint8_t c : light.channels) channels += std::string(channels.empty() ? "" : ", ") + (c ? "1" : "0");
-        save_hybrid_analysis(analysis, source.shape(), dir,
-                             "\"method\": " + json_quote(results.get_string("method")) + ",\n  \"reason\": " +
-                                 json_quote(results.get_string("reason")) + ",\n  \"light_modelled\": " +
-                                 (light.modelled ? "true" : "false") + ",\n  \"light_levels\": [" + levels +
-                                 "],\n  \"light_channels\": [" + channels + "]");
+        save_hybrid_passes(analysis, source.shape(), dir,
+                           "\"method\": " + json_quote(results.get_string("method")) + ",\n  \"reason\": " +
+                               json_quote(results.get_string("reason")) + ",\n  \"light_modelled\": " +
+                               (light.modelled ? "true" : "false") + ",\n  \"light_levels\": [" + levels +
+                               "],\n  \"light_channels\": [" + channels + "]");
     }
 
-    void frames_from(const FrameSource& source, const std::string& dir, int64_t f0, int64_t f1,
+    void frame_pass_into(const FrameSource& source, const WindowedFiles& files, int64_t f0, int64_t f1,
+                         const std::string& dir, const StageContext& context, Results& results) const override {
+        const LightLevels light = saved_light(files, results);
+        const LevelledSource levelled(source, light);
+        stage_.frame_pass_into(light.modelled ? static_cast<const FrameSource&>(levelled) : source, files, f0, f1, dir,
+                               context, results);
+    }
+
+    void shot_pass_into(const FrameSource& source, const WindowedFiles& files, const std::string& dir,
+                        const StageContext& context, Results& results) const override {
+        const LightLevels light = saved_light(files, results);
+        const LevelledSource levelled(source, light);
+        Results own;
+        stage_.shot_pass_into(light.modelled ? static_cast<const FrameSource&>(levelled) : source, files, dir, context, own);
+        add_hybrid_results(own, false, results);
+    }
+
+    void frames_from(const FrameSource& source, const WindowedFiles& files, int64_t f0, int64_t f1,
                      const FrameConsumer& consume, const StageContext& context, Results& results) const override {
-        JsonValue json;
-        const HybridAnalysis analysis = load_hybrid_analysis(source.shape(), source.attributes(), dir, &json);
-        LightLevels light;
+        const LightLevels light = saved_light(files, results);
+        const LevelledSource levelled(source, light);
+        Results own;
+        stage_.frames_from(light.modelled ? static_cast<const FrameSource&>(levelled) : source, files, f0, f1,
+                           [&](int64_t f, float* pixels) {
+                               if (light.modelled) levelled.restore(f, pixels);
+                               consume(f, pixels);
+                           },
+                           context, own);
+        add_hybrid_results(own, false, results);
+    }
+
+private:
+    // The light levels the analysis measured, and its choice (results: "method", "reason").
+    static LightLevels saved_light(const WindowedFiles& files, Results& results) {
+        const JsonValue json = hybrid_passes_json(files.analysis);
         for (const char* key : {"method", "reason", "light_modelled", "light_levels", "light_channels"})
-            if (!json.find(key)) throw Error(Status::InvalidArgument, "'" + dir + "/analysis.json' has no '" + key + "'");
+            if (!json.find(key)) throw Error(Status::InvalidArgument, "'" + files.analysis + "/analysis.json' has no '" + key + "'");
+        LightLevels light;
         light.modelled = json.find("light_modelled")->boolean();
         for (const JsonValue& v : json.find("light_levels")->array()) light.levels.push_back(v.number());
         for (const JsonValue& v : json.find("light_channels")->array()) light.channels.push_back(v.number() != 0 ? 1 : 0);
         results.set("method", json.find("method")->string());
         results.set("reason", json.find("reason")->string());
-        const LevelledSource levelled(source, light);
-        Results own;
-        stage_.window(light.modelled ? static_cast<const FrameSource&>(levelled) : source, analysis, f0, f1,
-                      [&](int64_t f, float* pixels) {
-                          if (light.modelled) levelled.restore(f, pixels);
-                          consume(f, pixels);
-                      },
-                      context, own);
-        if (!analysis.still) add_hybrid_results(own, false, results);
+        return light;
     }
 
-private:
     // What the preset picked, from the motion the analysis measured; returns whether the scene is still.
     bool report_choice(const Results& own, const NoiseInTime& noise, Results& results) const {
         const double moving = own.get_float("motion_fraction");

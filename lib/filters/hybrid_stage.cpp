@@ -175,14 +175,38 @@ void HybridStage::run(const FrameSource& source, const FrameConsumer& consume, c
     if (!analysis.still) window(source, analysis, 0, source.shape().frames, consume, ctx, results);
 }
 
+// A plan's phases: the passes, each chunk's first passes, the guides, the frames (hybrid_analysis_file.hpp).
 void HybridStage::analyse_into(const FrameSource& source, const std::string& dir, const StageContext& ctx,
                                Results& results) const {
-    save_hybrid_analysis(analyse(source, ctx, results, nullptr), source.shape(), dir, "");
+    save_hybrid_passes(analyse_passes(source, ctx, results, nullptr), source.shape(), dir, "");
 }
 
-void HybridStage::frames_from(const FrameSource& source, const std::string& dir, int64_t f0, int64_t f1,
+void HybridStage::frame_pass_into(const FrameSource& source, const WindowedFiles& files, int64_t f0, int64_t f1,
+                                  const std::string& dir, const StageContext& ctx, Results& results) const {
+    (void)results;
+    HybridAnalysis analysis = load_hybrid_passes(source.shape(), source.attributes(), options_.change, files.analysis, nullptr);
+    if (analysis.still) return;  // the window hands the still scene's frames on
+    FirstPassFiles out(dir, source.shape(), f0, f1);
+    first_pass(source, analysis, f0, f1, [&](int64_t t, const float* pixels) { out.write(t, pixels); }, ctx);
+    out.finish(analysis);
+}
+
+void HybridStage::shot_pass_into(const FrameSource& source, const WindowedFiles& files, const std::string& dir,
+                                 const StageContext& ctx, Results& results) const {
+    HybridAnalysis analysis = load_hybrid_passes(source.shape(), source.attributes(), options_.change, files.analysis, nullptr);
+    if (analysis.still) return;
+    load_first_passes(source.shape(), source.attributes(), files.passes, analysis);
+    guides(source.shape(), analysis, source.attributes(), ctx, results);
+    save_guides(analysis, source.shape(), dir);
+}
+
+void HybridStage::frames_from(const FrameSource& source, const WindowedFiles& files, int64_t f0, int64_t f1,
                               const FrameConsumer& consume, const StageContext& ctx, Results& results) const {
-    const HybridAnalysis analysis = load_hybrid_analysis(source.shape(), source.attributes(), dir, nullptr);
+    HybridAnalysis analysis = load_hybrid_passes(source.shape(), source.attributes(), options_.change, files.analysis, nullptr);
+    if (!analysis.still) {
+        load_first_passes(source.shape(), source.attributes(), files.passes, analysis);
+        load_guides(source.shape(), source.attributes(), files.shot_pass, analysis);
+    }
     window(source, analysis, f0, f1, consume, ctx, results);
 }
 

@@ -12,8 +12,9 @@
 //      flow (statfilter/aligned_frame.hpp), blended into I_T by the moving weight, handed on.
 // Memory: a band, the temporal model and per-pixel maps, then the window's frames; never the shot.
 // In memory the same stage runs over the sequence (bands are then the whole frame): one
-// implementation, the same numbers either way. Steps 1-3 (analyse) and step 4 (window) are separate
-// calls, so a plan's tasks can make the analysis once and the frames in chunks
+// implementation, the same numbers either way. The steps are separate calls (analyse_passes;
+// first_pass over a range of frames; guides; window over a range of frames), so a plan's tasks can
+// make the passes and the guides once and the first passes and the frames in chunks
 // (filters/hybrid_analysis_file.hpp): a frame's window reads only frames t - h .. t + h.
 #pragma once
 #include <functional>
@@ -111,7 +112,11 @@ public:
     double frames_min_bytes(const Shape& shape) const override { return window_min_bytes(shape); }
     void analyse_into(const FrameSource& source, const std::string& dir, const StageContext& context,
                       Results& results) const override;
-    void frames_from(const FrameSource& source, const std::string& dir, int64_t f0, int64_t f1,
+    void frame_pass_into(const FrameSource& source, const WindowedFiles& files, int64_t f0, int64_t f1,
+                         const std::string& dir, const StageContext& context, Results& results) const override;
+    void shot_pass_into(const FrameSource& source, const WindowedFiles& files, const std::string& dir,
+                        const StageContext& context, Results& results) const override;
+    void frames_from(const FrameSource& source, const WindowedFiles& files, int64_t f0, int64_t f1,
                      const FrameConsumer& consume, const StageContext& context, Results& results) const override;
 
 private:

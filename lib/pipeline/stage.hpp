@@ -4,6 +4,7 @@
 #pragma once
 #include <functional>
 #include <string>
+#include <vector>
 
 #include "pipeline/footprint.hpp"
 #include "pipeline/frame_source.hpp"
@@ -43,10 +44,23 @@ public:
     virtual const WindowedStage* windowed() const { return nullptr; }
 };
 
+// Where a plan's tasks of a windowed stage leave what the next phase reads: a directory each (made
+// whole or not at all by the task), in the plan's work directory.
+struct WindowedFiles {
+    struct Chunk {
+        int64_t begin = 0, end = 0;  // frames [begin, end)
+        std::string dir;
+    };
+    std::string analysis;       // 1. the passes over the whole shot
+    std::vector<Chunk> passes;  // 2. a pass frame by frame, in chunks of frames covering the shot
+    std::string shot_pass;      // 3. what needs every frame's pass
+};
+
 // A stage whose frames, once its passes over the whole shot are made, each need only the frames
-// t - h .. t + h around them (the hybrid's window): a plan runs the passes once, saving what the
-// frames need in a directory, and the frames in chunks from it, each chunk on its own, with the same
-// numbers as the stage's run.
+// t - h .. t + h around them (the hybrid's window). A plan runs it as four phases: the passes over
+// the shot (one task), a pass frame by frame (chunks), what needs all of those (one task), then the
+// frames (chunks), each chunk on its own, with the same numbers as the stage's run. Each phase
+// writes into its own directory (existing, empty) and reads the earlier phases' (WindowedFiles).
 class WindowedStage {
 public:
     virtual ~WindowedStage() = default;
@@ -54,13 +68,18 @@ public:
     virtual int64_t window_half() const = 0;
     // The least memory of a chunk of frames on one thread.
     virtual double frames_min_bytes(const Shape& shape) const = 0;
-    // The passes over the shot; what the frames need is written into dir (existing, empty). Results:
-    // what the run reports of the analysis (its choice, the motion it measured).
+    // 1. Results: what the run reports of its analysis (its choice, the motion it measured).
     virtual void analyse_into(const FrameSource& source, const std::string& dir, const StageContext& context,
                               Results& results) const = 0;
-    // Frames [f0, f1) made from the analysis in dir, each handed to consume once (any order, worker
-    // threads). Results: the analysis' choice ("method", "reason") and what these frames report.
-    virtual void frames_from(const FrameSource& source, const std::string& dir, int64_t f0, int64_t f1,
+    // 2. Frames [f0, f1) of the pass frame by frame.
+    virtual void frame_pass_into(const FrameSource& source, const WindowedFiles& files, int64_t f0, int64_t f1,
+                                 const std::string& dir, const StageContext& context, Results& results) const = 0;
+    // 3.
+    virtual void shot_pass_into(const FrameSource& source, const WindowedFiles& files, const std::string& dir,
+                                const StageContext& context, Results& results) const = 0;
+    // 4. Frames [f0, f1), each handed to consume once (any order, worker threads). Results: the
+    // analysis' choice ("method", "reason") and what these frames report.
+    virtual void frames_from(const FrameSource& source, const WindowedFiles& files, int64_t f0, int64_t f1,
                              const FrameConsumer& consume, const StageContext& context, Results& results) const = 0;
 };
 

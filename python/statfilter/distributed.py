@@ -328,7 +328,7 @@ def _report(plan: Dict[str, Any], reports: List[Dict[str, Any]], plan_seconds: f
         p["wall_seconds"] = p.pop("finished") - p.pop("started")
     results: Dict[str, Any] = {}
     for r in reports:
-        if r["phase"] in ("reduce", "reconstruct", "frames", "shot", "analysis", "window", "tolerance", "masks"):
+        if r["phase"] in ("reduce", "reconstruct", "frames", "shot", "analysis", "guides", "window", "tolerance", "masks"):
             for k, v in r["results"].items():
                 results.setdefault(k, v)
     return {

@@ -99,23 +99,31 @@ def test_window_plan_reads_only_its_frames_and_reruns_change_nothing(sample_nois
     run("plan", sample_noisy, out, "--quality", "balanced", "--frames-per-task", "4", "-o", plan, "--quiet")
     tasks = json.loads(plan.read_text())
     assert tasks["window_half"] == 4
-    # The window tasks wait for the analysis alone and read their frames and four either side.
-    assert [t["phase"] for t in tasks["tasks"]] == ["analysis"] + ["window"] * 8
-    assert tasks["tasks"][2]["frames"] == [4, 8] and tasks["tasks"][2]["read_frames"] == [0, 12]
-    assert all(t["after"] == [0] for t in tasks["tasks"][1:])
-    # A window task before the analysis fails, naming what is missing, and writes no frame.
-    proc = run("task", plan, 1, "--quiet", check_rc=None)
-    assert proc.returncode != 0 and "run the analysis task first" in proc.stderr
+    # The analysis; the first passes in chunks after it; the guides after those; the frames in
+    # chunks after the guides, each reading its frames and four either side.
+    phases = [t["phase"] for t in tasks["tasks"]]
+    assert phases == ["analysis"] + ["first_pass"] * 8 + ["guides"] + ["window"] * 8
+    assert all(t["after"] == [0] for t in tasks["tasks"][1:9])
+    assert tasks["tasks"][9]["after"] == list(range(1, 9))
+    assert all(t["after"] == [9] for t in tasks["tasks"][10:])
+    window = tasks["tasks"][11]
+    assert window["frames"] == [4, 8] and window["read_frames"] == [0, 12]
+    # A task before the phases it needs fails, naming what is missing, and writes nothing.
+    for index, missing in ((1, "analysis task"), (9, "analysis task"), (11, "analysis task")):
+        proc = run("task", plan, index, "--quiet", check_rc=None)
+        assert proc.returncode != 0 and f"run the {missing} first" in proc.stderr
     assert not list((tmp_path / "farm").glob("o.*.exr"))
     shell_run(plan)
     work = tmp_path / "plan.json.work"
-    report = json.loads((work / "task-2.json").read_text())
     frame_bytes = 160 * 120 * 3 * 4
+    report = json.loads((work / "task-11.json").read_text())
     assert report["pixel_bytes_read"] == 12 * frame_bytes  # frames 0-11 of the input, once each
+    report = json.loads((work / "task-2.json").read_text())
+    assert report["pixel_bytes_read"] == 4 * frame_bytes  # a first pass: its own frames 4-7
     first = {p.name: p.read_bytes() for p in (tmp_path / "farm").glob("o.*.exr")}
     # The analysis run again (as a farm retries a task), then a window task: the same frames.
-    run("task", plan, 0, "--quiet")
-    run("task", plan, 3, "--quiet")
+    for index in (0, 3, 9, 12):
+        run("task", plan, index, "--quiet")
     assert not [p for p in work.iterdir() if ".tmp-" in p.name]  # no temporary left
     assert {p.name: p.read_bytes() for p in (tmp_path / "farm").glob("o.*.exr")} == first
 

@@ -154,7 +154,7 @@ def start_and_kill(folder, index, when):
 # write the files the next phase reads (the analysis a directory of them); the assembly, masks and
 # window tasks write the final outputs, and so does a shot plan's one task.
 TARGETS = [("denoise", "reconstruct"), ("denoise", "assemble"), ("detect", "detect"), ("detect", "masks"),
-           ("shot", "shot"), ("window", "analysis"), ("window", "window")]
+           ("shot", "shot"), ("window", "analysis"), ("window", "first_pass"), ("window", "window")]
 
 
 @pytest.mark.parametrize("when", ["first-file", "writing"])

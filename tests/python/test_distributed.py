@@ -93,7 +93,7 @@ def test_two_workers_match_the_single_process_run(shared_data, tmp_path, client,
         assert report["phases"]["statistics"]["tasks"] == 3
         assert "rank" in report["results"] or "mean_rank" in report["results"]
     if report["kind"] == "window":
-        assert set(report["phases"]) == {"analysis", "window"}
+        assert set(report["phases"]) == {"analysis", "first_pass", "guides", "window"}
         assert report["phases"]["window"]["tasks"] == 4
         assert report["results"]["method"].startswith("hybrid") and report["results"]["motion_fraction"] > 0
 
