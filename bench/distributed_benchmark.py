@@ -130,6 +130,36 @@ def measure_balanced_1080p(build, work, cli):
     return dict(shot="1920x1080x32", input_bytes=sum(p.stat().st_size for p in shot.glob("in.*.exr")), rows=rows)
 
 
+def balanced_model(measured):
+    """Seconds for 3840 x 2160 x 200 at --quality balanced on N nodes, from the 1080p x 32 phases measured on
+    one worker (linear in pixel-frames: each phase's work is per pixel and frame), one single-threaded task per
+    node at a time: the analysis and the guides run on one node; the first passes and the windows in chunks of
+    frames, in waves over the nodes, each task with the scheduling overhead measured on two workers; every
+    phase at least its bytes through shared storage."""
+    one = [r for r in measured["rows"] if r.get("tasks") and r["slots"] == 1][0]
+    two = [r for r in measured["rows"] if r.get("tasks") and r["slots"] == 2][0]
+    scale = (3840 * 2160 * 200) / (1920 * 1080 * 32)
+    frames, per_frame_scale = 200, (3840 * 2160) / (1920 * 1080)
+    overhead = max(0.0, (two["wall"] * 2 - sum(p["seconds"] for p in two["phases"].values())) / two["tasks"])
+    def phase_bytes(name):
+        p = one["phases"][name]
+        return (p["pixel_bytes_read"] + p["bytes_read"] + p["bytes_written"]) * scale
+    out = {}
+    for bandwidth in STORAGE_BYTES_PER_S:
+        for n in (1, 10, 100, 1000):
+            per_task = max(1, math.ceil(frames / n))
+            waves = math.ceil(math.ceil(frames / per_task) / n)
+            row = {}
+            for name in ("analysis", "guides"):
+                row[name] = max(one["phases"][name]["seconds"] * scale, phase_bytes(name) / bandwidth)
+            for name in ("first_pass", "window"):
+                each = one["phases"][name]["seconds"] / 32 * per_frame_scale  # one frame's share, at 4K
+                row[name] = max(waves * (per_task * each + overhead), phase_bytes(name) / bandwidth)
+            row["total"] = sum(row.values())
+            out[(bandwidth, n)] = row
+    return out
+
+
 def run_task(cli, plan, index):
     rc, wall, cpu, rss, tail = timed([cli, "task", plan, index, "--threads", "1", "--quiet"],
                                      dict(os.environ, OPENBLAS_NUM_THREADS="1", OMP_NUM_THREADS="1"))
@@ -227,14 +257,25 @@ def main():
     ap.add_argument("--work", default=str(ROOT / "build-release" / "bench-frames"))
     ap.add_argument("--model-only", action="store_true")
     ap.add_argument("--balanced", action="store_true", help="measure --quality balanced alone (docs/distributed_balanced.json)")
+    ap.add_argument("--balanced-model-only", action="store_true", help="its model again from docs/distributed_balanced.json")
     args = ap.parse_args()
     build, work = Path(args.build), Path(args.work)
     cli = str(build / "tools" / "statfilter")
     docs = ROOT / "docs"
-    if args.balanced:
-        work.mkdir(parents=True, exist_ok=True)
-        data = measure_balanced_1080p(build, work, cli)
-        (docs / "distributed_balanced.json").write_text(json.dumps(data, indent=1))
+    if args.balanced or args.balanced_model_only:
+        path = docs / "distributed_balanced.json"
+        if args.balanced_model_only:
+            data = json.loads(path.read_text())
+        else:
+            work.mkdir(parents=True, exist_ok=True)
+            data = measure_balanced_1080p(build, work, cli)
+            path.write_text(json.dumps(data, indent=1))
+        result = balanced_model(data)
+        for bandwidth in STORAGE_BYTES_PER_S:
+            print(f"\nstorage {bandwidth / 1e9:.0f} GB/s: | nodes | modelled s | analysis | first passes | guides | windows |")
+            for n in (1, 10, 100, 1000):
+                m = result[(bandwidth, n)]
+                print(f"| {n} | {m['total']:.0f} | {m['analysis']:.0f} | {m['first_pass']:.0f} | {m['guides']:.0f} | {m['window']:.0f} |")
         return
     data_path = docs / "distributed.json"
     if args.model_only:

@@ -100,7 +100,7 @@ int plan_detect(int argc, char** argv) {
 int cmd_plan(int argc, char** argv) {
     if (argc > 2 && std::string(argv[2]) == "detect") return plan_detect(argc, argv);
     const Args args(argc, argv, 2, {"help", "quiet", "float", "clamp-half"},
-                    merged({kInputOptions, kOutputOptions, kRunOptions, {"method", "output-file", "tiles", "tile-rows", "frames-per-task", "work"}}));
+                    merged({kInputOptions, kOutputOptions, kRunOptions, {"method", "output-file", "tiles", "tile-rows", "frames-per-task", "work", "save"}}));
     if (args.flag("help")) {
         std::printf("usage: statfilter plan IN OUT [denoise options] [--tiles N | --tile-rows R] -o PLAN\n"
                     "       statfilter plan detect DENOISED --noisy NOISY [--mask M] [--crops C] [...] -o PLAN\n"
@@ -121,6 +121,10 @@ int cmd_plan(int argc, char** argv) {
         return 0;
     }
     if (args.positionals().size() != 2) throw UsageError("expected IN and OUT patterns (see --help)");
+    // Known to denoise, so named here rather than as an unknown option.
+    if (args.has("save"))
+        throw UsageError("--save: a plan's tasks write the frames, not image results (alpha, rank_map); "
+                         "run 'statfilter denoise IN OUT --save ...' for those");
     if (!args.has("output-file")) throw UsageError("give the plan file to write: -o PLAN");
     if (args.has("tiles") && args.has("tile-rows")) throw UsageError("give --tiles or --tile-rows, not both");
     const std::string in = args.positionals()[0], out = args.positionals()[1], plan = args.option("output-file");

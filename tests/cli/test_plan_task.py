@@ -138,6 +138,8 @@ def test_plan_checks_before_any_work(sample_noisy, tmp_path):
     proc = run("plan", sample_noisy, tmp_path / "o.####.exr", "--tiles", "2", "--tile-rows", "3", "-o", tmp_path / "p.json",
                check_rc=2)
     assert "not both" in proc.stderr
+    proc = run("plan", sample_noisy, tmp_path / "o.####.exr", "--save", "alpha=a.exr", "-o", tmp_path / "p.json", check_rc=2)
+    assert "statfilter denoise IN OUT --save" in proc.stderr and not (tmp_path / "p.json").exists()
     run("plan", sample_noisy, tmp_path / "o.####.exr", "--method", "pca", "-o", tmp_path / "p.json", "--quiet")
     proc = run("task", tmp_path / "p.json", 99, check_rc=1)
     assert "task 99 is not in the plan" in proc.stderr
