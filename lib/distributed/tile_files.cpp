@@ -5,6 +5,7 @@
 #include <unistd.h>
 
 #include <cerrno>
+#include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
@@ -71,15 +72,23 @@ AtomicDirectory::~AtomicDirectory() {
 }
 
 int64_t AtomicDirectory::commit() {
-    std::error_code ec;
     int64_t bytes = 0;
-    for (const auto& entry : fs::directory_iterator(temporary_))
-        if (entry.is_regular_file()) bytes += static_cast<int64_t>(entry.file_size());
-    // A finished run's directory (this task run again) goes first: a rename does not replace a
-    // directory that holds files. Killed between the two, the task leaves none, and the tasks after
-    // it say the analysis is missing.
-    fs::remove_all(path_, ec);
-    if (::rename(temporary_.c_str(), path_.c_str()) != 0) throw Error(Status::Io, system_error("cannot rename into", path_));
+    std::error_code ec;
+    for (const auto& entry : fs::directory_iterator(temporary_, ec))
+        if (entry.is_regular_file(ec)) bytes += static_cast<int64_t>(entry.file_size(ec));
+    // A finished run's directory there (this task run again, perhaps while later tasks read it):
+    // the two are swapped in one step, so a reader sees the old one or the new one whole, and the
+    // old one, now under the temporary's name, goes after. A plain rename when there is none.
+    if (::renameat2(AT_FDCWD, temporary_.c_str(), AT_FDCWD, path_.c_str(), RENAME_EXCHANGE) == 0) {
+        fs::remove_all(temporary_, ec);
+    } else if (errno == ENOENT || errno == EINVAL || errno == ENOSYS) {
+        // None there; or a file system that cannot swap (then the old one goes first: killed between
+        // the two, the task leaves none, and the tasks after it say so).
+        if (errno != ENOENT) fs::remove_all(path_, ec);
+        if (::rename(temporary_.c_str(), path_.c_str()) != 0) throw Error(Status::Io, system_error("cannot rename into", path_));
+    } else {
+        throw Error(Status::Io, system_error("cannot put the finished directory in place of", path_));
+    }
     temporary_.clear();
     return bytes;
 }

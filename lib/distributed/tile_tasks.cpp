@@ -1,6 +1,7 @@
 // run_plan_task: one task of a plan (statistics, reduce, reconstruct, assemble, frames, shot).
 #include <sys/resource.h>
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <cstdio>
@@ -241,6 +242,36 @@ WindowedFiles windowed_files(const Run& run) {
     return files;
 }
 
+// A window plan's stage gets the task's budget less what Filter::execute sets aside (the frame
+// stages' and the files' buffers), as the single run's stage does: the same bands, the same numbers
+// (at the single run's budget and threads). The stage reports a phase's progress within its whole run
+// ([from, to] of it: the passes 0-0.35, the first passes to 0.5, the guides to 0.55, the window to 1);
+// a task shows its own, 0 to 1.
+StageContext phase_context(const Run& run, const Progress& own) {
+    StageContext c = run.stage;
+    const FrameSource& source = *run.context.source;
+    c.budget_bytes -= frame_reserve_bytes(run.context.filter->frame_stage_params(), source.shape(), c.threads,
+                                          !source.in_memory());
+    c.progress = &own;
+    return c;
+}
+Progress rescaled(const Progress& task, double from, double to) {
+    return Progress([&task, from, to](double fraction, const char* stage) {
+        task.report(std::clamp((fraction - from) / (to - from), 0.0, 1.0), stage);
+        return true;
+    });
+}
+
+// A task's frames [f0, f1), checked against the shot (a plan edited by hand).
+std::pair<int64_t, int64_t> task_frames(const Run& run, const JsonValue& task) {
+    const auto [f0, f1] = range(task, "frames", "task");
+    const int64_t F = run.context.source->shape().frames;
+    if (!(0 <= f0 && f0 < f1 && f1 <= F))
+        throw Error(Status::InvalidArgument, "the task's frames [" + std::to_string(f0) + ", " + std::to_string(f1) +
+                                                 ") are not within the shot's " + std::to_string(F));
+    return {f0, f1};
+}
+
 // Fails before the task writes anything when a phase before it has not left its directory.
 void require(const std::string& dir, const std::string& what) {
     if (!fs::is_directory(dir)) throw Error(Status::Io, "'" + dir + "' is not there: run the " + what + " first");
@@ -252,21 +283,23 @@ void analysis_task(Run& run) {
     const WindowedStage& stage = windowed_stage(run, holder);
     CountingSource counted(*run.context.source, run.pixels_read);
     AtomicDirectory dir(run.work.analysis());
-    stage.analyse_into(counted, dir.temporary(), run.stage, run.results);
+    const Progress progress = rescaled(run.context.progress, 0.0, 0.35);
+    stage.analyse_into(counted, dir.temporary(), phase_context(run, progress), run.results);
     run.bytes_written += dir.commit();
     run.outputs.push_back(run.work.analysis());
 }
 
 // The first passes of frames [f0, f1): reads those frames of the input and of I_T.
 void first_pass_task(Run& run, const JsonValue& task) {
-    const auto [f0, f1] = range(task, "frames", "task");
+    const auto [f0, f1] = task_frames(run, task);
     const int64_t chunk = integer(task, "chunk", "task");
     std::unique_ptr<StreamStage> holder;
     const WindowedStage& stage = windowed_stage(run, holder);
     require(run.work.analysis(), "analysis task");
     CountingSource counted(*run.context.source, run.pixels_read);
     AtomicDirectory dir(run.work.first_pass(chunk));
-    stage.frame_pass_into(counted, windowed_files(run), f0, f1, dir.temporary(), run.stage, run.results);
+    const Progress progress = rescaled(run.context.progress, 0.35, 0.5);
+    stage.frame_pass_into(counted, windowed_files(run), f0, f1, dir.temporary(), phase_context(run, progress), run.results);
     const Shape& s = counted.shape();
     run.bytes_read += (f1 - f0) * s.pixels() * s.channels * static_cast<int64_t>(sizeof(float));  // I_T's frames
     run.bytes_written += dir.commit();
@@ -282,7 +315,8 @@ void guides_task(Run& run) {
     for (const WindowedFiles::Chunk& c : files.passes) require(c.dir, "first-pass tasks");
     CountingSource counted(*run.context.source, run.pixels_read);
     AtomicDirectory dir(run.work.guides());
-    stage.shot_pass_into(counted, files, dir.temporary(), run.stage, run.results);
+    const Progress progress = rescaled(run.context.progress, 0.5, 0.55);
+    stage.shot_pass_into(counted, files, dir.temporary(), phase_context(run, progress), run.results);
     const Shape& s = counted.shape();
     if (fs::exists(dir.temporary() + "/guides.f32"))  // the first passes read, twice over the guides
         run.bytes_read += s.frames * s.pixels() * s.channels * static_cast<int64_t>(sizeof(float)) * 2;
@@ -293,7 +327,7 @@ void guides_task(Run& run) {
 // Frames [f0, f1) from the analysis, reading frames f0 - h .. f1 - 1 + h of the input and of the
 // guides; each output frame staged and moved into place.
 void window_task(Run& run, const JsonValue& task, int64_t index) {
-    const auto [f0, f1] = range(task, "frames", "task");
+    const auto [f0, f1] = task_frames(run, task);
     std::unique_ptr<StreamStage> holder;
     const WindowedStage& stage = windowed_stage(run, holder);
     // The phases before it there before any frame is staged (run before them, it leaves nothing).
@@ -313,6 +347,7 @@ void window_task(Run& run, const JsonValue& task, int64_t index) {
     std::unique_ptr<FrameStagePool> post;
     if (runs_postfilter(stages)) post = std::make_unique<FrameStagePool>("postfilter", stages);
     std::once_flag provenance;
+    const Progress progress = rescaled(run.context.progress, 0.55, 1.0);
     stage.frames_from(counted, files, f0, f1, [&](int64_t t, float* pixels) {
         // What the preset chose (the analysis said), as the single-process frames say.
         std::call_once(provenance, [&] {
@@ -321,7 +356,7 @@ void window_task(Run& run, const JsonValue& task, int64_t index) {
         });
         if (post) post->apply(t, pixels, s, counted.attributes());
         sink->write_frame(t - f0, pixels);
-    }, run.stage, run.results);
+    }, phase_context(run, progress), run.results);
     if (post) post->add_results(run.results);
     sink->commit();
     sink.reset();

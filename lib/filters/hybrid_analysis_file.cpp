@@ -18,7 +18,8 @@ std::string in(const std::string& dir, const std::string& name) { return dir + "
 void write_bytes(const std::string& path, const void* data, size_t bytes, std::ios::openmode mode = std::ios::trunc) {
     std::ofstream out(path, std::ios::binary | mode);
     if (out && bytes > 0) out.write(static_cast<const char*>(data), static_cast<std::streamsize>(bytes));
-    if (!out) throw Error(Status::Io, "cannot write '" + path + "': " + std::strerror(errno));
+    out.close();  // a failure to flush counts too (a full disk)
+    if (out.fail()) throw Error(Status::Io, "cannot write '" + path + "' (is the disk full?)");
 }
 
 std::string read_all(const std::string& path) {
@@ -61,7 +62,15 @@ std::vector<double> numbers(const JsonValue& v) {
 struct JsonFile {
     std::string path;
     JsonValue json;
-    explicit JsonFile(const std::string& p) : path(p), json(parse_json(read_all(p))) {}
+    explicit JsonFile(const std::string& p) : path(p), json(parse(p)) {}
+    static JsonValue parse(const std::string& p) {
+        try {
+            return parse_json(read_all(p));
+        } catch (const Error& e) {
+            if (e.status() == Status::Io) throw;
+            throw Error(Status::InvalidArgument, "'" + p + "': " + e.what());
+        }
+    }
     const JsonValue& operator[](const char* key) const {
         const JsonValue* v = json.find(key);
         if (!v) throw Error(Status::InvalidArgument, "'" + path + "' has no '" + key + "'");
@@ -183,8 +192,9 @@ void save_hybrid_passes(const HybridAnalysis& a, const Shape& s, const std::stri
         write_vector(in(dir, "change_sigma.f64"), m.sigma);
         write_vector(in(dir, "change_centre.f64"), m.centre);
         write_vector(in(dir, "change_departures.u32"), m.departures);
+        write_vector(in(dir, "change_gain.f64"), m.gain);  // binary: a level may be non-finite
         json << ",\n  \"change\": {\"unit\": " << json_number(m.unit) << ", \"floor\": " << json_number(m.floor)
-             << ", \"gain\": " << json_list(m.gain) << "}";
+             << ", \"gain_frames\": " << m.gain.size() << "}";
     }
     if (!extra.empty()) json << ",\n  " << extra;
     json << "\n}\n";
@@ -202,6 +212,9 @@ HybridAnalysis load_hybrid_passes(const Shape& s, const Sequence& attributes, co
     a.temporal = a.held.back().get();
     a.grown = read_vector<float>(in(dir, "grown.f32"), static_cast<size_t>(json["grown_pixels"].number()));
     a.crossings = read_vector<float>(in(dir, "crossings.f32"), static_cast<size_t>(json["crossing_pixels"].number()));
+    const auto P = static_cast<size_t>(s.pixels());
+    if ((!a.still && a.grown.size() != P) || (!a.crossings.empty() && a.crossings.size() != P))
+        throw Error(Status::InvalidArgument, "'" + json.path + "': its maps are not one value a pixel of the shot");
     const auto fireflies = read_vector<char>(in(dir, "fireflies.bin"), static_cast<size_t>(json["fireflies"].number()) * kFireflyBytes);
     a.fireflies.resize(a.still ? 0 : static_cast<size_t>(s.frames));
     for (size_t at = 0; at < fireflies.size(); at += kFireflyBytes) {
@@ -215,14 +228,18 @@ HybridAnalysis load_hybrid_passes(const Shape& s, const Sequence& attributes, co
         a.fireflies[static_cast<size_t>(fields[0])].emplace_back(fields[1], value);
     }
     if (const JsonValue* c = json.json.find("change")) {
-        const auto P = static_cast<size_t>(s.pixels());
         TemporalChangeModel m;
         m.sigma = read_vector<double>(in(dir, "change_sigma.f64"), P);
         m.centre = read_vector<double>(in(dir, "change_centre.f64"), P);
         m.departures = read_vector<uint32_t>(in(dir, "change_departures.u32"), P);
-        m.unit = c->find("unit") ? c->find("unit")->number() : 0;
-        m.floor = c->find("floor") ? c->find("floor")->number() : 0;
-        if (const JsonValue* gain = c->find("gain")) m.gain = numbers(*gain);
+        const auto number = [&](const char* key) {
+            const JsonValue* v = c->find(key);
+            if (!v || !v->is(JsonValue::Type::Number)) throw Error(Status::InvalidArgument, "'" + json.path + "': the change test has no '" + key + "'");
+            return v->number();
+        };
+        m.unit = number("unit");
+        m.floor = number("floor");
+        m.gain = read_vector<double>(in(dir, "change_gain.f64"), static_cast<size_t>(number("gain_frames")));
         a.change = TemporalChange::from_model(s, change, std::move(m));
     }
     if (json_out) *json_out = json.json;
@@ -257,6 +274,9 @@ void FirstPassFiles::write(int64_t frame, const float* pixels) {
 }
 
 void FirstPassFiles::finish(const HybridAnalysis& a) {
+    const int fd = fd_;
+    fd_ = -1;
+    if (::close(fd) != 0) throw Error(Status::Io, "cannot write '" + in(dir_, "first.f32") + "': " + std::strerror(errno));
     const auto part = [&](const auto& v) {
         using T = typename std::decay_t<decltype(v)>::value_type;
         return json_list(std::vector<T>(v.begin() + begin_, v.begin() + end_));

@@ -31,6 +31,21 @@ std::string shot_text(const Shape& s) {
 
 }  // namespace
 
+double frame_reserve_bytes(const ParamSet& stages, const Shape& s, int threads, bool files) {
+    const double frame_bytes = static_cast<double>(s.pixels()) * s.channels * sizeof(float);
+    // Per thread, a frame stage's frame and working set; with the trust blend, the noisy and the
+    // prefiltered frame beside it and a probe's copy.
+    const bool trusting = trusts_time_by_tile(stages);
+    const double frame_stages = (has_frame_stage(stages, "prefilter") || runs_postfilter(stages))
+                                    ? threads * (frame_stage_bytes(s) + (trusting ? 3 * frame_bytes : 0))
+                                    : 0;
+    // Reading and writing files, each thread may hold OpenImageIO's buffer of a frame's pixels in
+    // the file's type being decoded and one being encoded: at most a float frame each. At 4K that
+    // is 0.2 GiB a thread, so it is counted, not left to the fixed overhead.
+    const double io_buffers = files ? 2.0 * threads * frame_bytes : 0.0;
+    return frame_stages + io_buffers;
+}
+
 void Filter::set_provenance(FrameSink& sink) const {
     for (const char* name : {"method", "reason"})
         if (results_.has(name)) sink.set_attribute(std::string("statfilter:") + name, results_.get_string(name));
@@ -69,14 +84,8 @@ void Filter::execute(const FrameSource& source, FrameSink& sink, const RunOption
     if (stage) {
         if (pre) prefilter = std::make_unique<FrameStagePool>("prefilter", stages);
         if (post) postfilter = std::make_unique<FrameStagePool>("postfilter", stages);
-        // Per thread, a frame stage's frame and working set; with the trust blend, the noisy and the
-        // prefiltered frame beside it and a probe's copy.
         const bool trusting = trusts_time_by_tile(stages);
-        const double frame_stages = (pre || post) ? threads * (frame_stage_bytes(s) + (trusting ? 3 * frame_bytes : 0)) : 0;
-        // Reading and writing files, each thread may hold OpenImageIO's buffer of a frame's pixels in
-        // the file's type being decoded and one being encoded: at most a float frame each. At 4K that
-        // is 0.2 GiB a thread, so it is counted, not left to the fixed overhead.
-        const double io_buffers = source.in_memory() ? 0.0 : 2.0 * threads * frame_bytes;
+        const double reserved = frame_reserve_bytes(stages, s, threads, !source.in_memory());
         // A single-frame denoiser's own scratch (OIDN's: 3000 MiB an instance by default, whatever the
         // budget) is a share of the budget: each pool keeps up to one instance a thread, each given at
         // least kLeastStageShare and at most an equal part of half what the rest leaves, the other half
@@ -84,7 +93,7 @@ void Filter::execute(const FrameSource& source, FrameSink& sink, const RunOption
         const int sharing = (prefilter && prefilter->takes_memory_share() ? 1 : 0) +
                             (postfilter && postfilter->takes_memory_share() ? 1 : 0);
         const double instances = static_cast<double>(sharing) * threads;
-        needed = stage->min_bytes(s, threads) + frame_stages + io_buffers + instances * kLeastStageShare;
+        needed = stage->min_bytes(s, threads) + reserved + instances * kLeastStageShare;
         check_memory_budget(needed, budget, "this run (" + shot_text(s) + ", streamed)");
         double stage_shares = 0;
         if (sharing > 0) {
@@ -145,7 +154,7 @@ void Filter::execute(const FrameSource& source, FrameSink& sink, const RunOption
         });
         StageContext context;
         context.threads = threads;
-        context.budget_bytes = budget - frame_stages - io_buffers - stage_shares;
+        context.budget_bytes = budget - reserved - stage_shares;
         context.progress = &stage_progress;
         // What a preset picked is known before its first frame is handed on: the frames say so.
         std::once_flag provenance;

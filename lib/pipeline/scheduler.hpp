@@ -5,7 +5,9 @@
 #include <cstdint>
 #include <string>
 
+#include "statfilter/params.hpp"
 #include "statfilter/progress.hpp"
+#include "statfilter/sequence.hpp"
 
 namespace statfilter {
 
@@ -22,5 +24,12 @@ struct RunPlan {
     double bytes = 0;       // the least memory the run needs
     std::string reason;     // what runs, and how
 };
+
+// What a run sets aside of its memory budget before its stream stage gets the rest: each thread's
+// frame for a prefilter or postfilter and its working set (three frames more with the trust blend),
+// and, reading and writing files, each thread's decode and encode buffers. Filter::execute gives the
+// stage the budget less this (and less a single-frame denoiser's share); a plan's window tasks give
+// theirs the same, so its bands, and so its numbers, are the single run's.
+double frame_reserve_bytes(const ParamSet& stages, const Shape& shape, int threads, bool files);
 
 }  // namespace statfilter

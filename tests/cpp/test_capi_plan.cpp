@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <random>
@@ -336,4 +337,80 @@ TEST(DetectPlan, BadArgumentsAreRefusedBeforeAnythingIsWritten) {
     EXPECT_NE(std::string(sf_last_error()).find("run the detect tasks before the masks task"), std::string::npos)
         << sf_last_error();
     EXPECT_FALSE(fs::exists(crops));
+}
+
+namespace {
+
+// A square brighter than the background moving 2 pixels a frame across a noisy frame (moving), or
+// the same frame without it (still); RGB, 16 frames of 28 x 20.
+std::string write_window_shot(const TempDir& dir, const std::string& name, bool moving) {
+    std::mt19937 rng(5);
+    std::normal_distribution<float> noise(0.0f, 0.15f);
+    Seq seq = filled_sequence(shape_of(16, 20, 28, 3), [&](int64_t f, int64_t y, int64_t x, int64_t c) {
+        const int64_t x0 = 2 + 2 * f;
+        const bool square = moving && x >= x0 && x < x0 + 6 && y >= 7 && y < 13;
+        return (square ? 3.0f : 0.5f + 0.05f * static_cast<float>(c)) * std::max(0.05f, 1.0f + noise(rng));
+    });
+    const char* names[] = {"R", "G", "B"};
+    for (int64_t c = 0; c < 3; ++c) EXPECT_SF_OK(sf_sequence_set_channel_name(seq.get(), c, names[c]));
+    for (int64_t f = 0; f < 16; ++f) EXPECT_SF_OK(sf_sequence_set_frame_number(seq.get(), f, f + 1));
+    const std::string pattern = dir.file(name + ".####.exr");
+    const sf_write_options o = write_options(SF_PIXEL_FLOAT);
+    EXPECT_SF_OK(sf_sequence_write(seq.get(), pattern.c_str(), &o));
+    return pattern;
+}
+
+Filt filter_with(const std::string& name, const std::vector<std::pair<std::string, std::string>>& params) {
+    sf_filter f = nullptr;
+    EXPECT_SF_OK(sf_filter_create(name.c_str(), &f));
+    for (const auto& [k, v] : params) EXPECT_SF_OK(sf_filter_set_string(f, k.c_str(), v.c_str()));
+    return Filt(f);
+}
+
+}  // namespace
+
+// The hybrid's window plan (the passes, first passes in chunks, the guides, windows in chunks), each
+// task on its own: the single run's output bit for bit, with and without the temporal-change test
+// (its model goes through the work directory, or there is none), and for a still scene (global PCA:
+// the later phases hand its frames on).
+TEST(WindowPlan, TasksGiveTheSingleRunOutputBitForBit) {
+    struct Case {
+        std::string name, filter;
+        bool moving;
+        std::vector<std::pair<std::string, std::string>> params;
+    };
+    const std::vector<Case> cases = {
+        {"hybrid", "hybrid", true, {{"mc_half_width", "2"}}},
+        {"no_change_test", "hybrid", true, {{"mc_half_width", "2"}, {"change_z", "0"}}},
+        {"balanced", "auto", true, {{"quality", "balanced"}}},
+        {"still", "auto", false, {{"quality", "balanced"}}},
+    };
+    for (const Case& c : cases) {
+        SCOPED_TRACE(c.name);
+        TempDir dir;
+        const std::string in = write_window_shot(dir, "in", c.moving);
+        const sf_write_options wo = write_options(SF_PIXEL_FLOAT);
+        Filt single = filter_with(c.filter, c.params);
+        ASSERT_SF_OK(sf_filter_run(single.get(), in.c_str(), nullptr, dir.file("single.####.exr").c_str(), &wo, nullptr));
+        Filt filter = filter_with(c.filter, c.params);
+        sf_plan_options po;
+        sf_plan_options_init(&po);
+        po.frames_per_task = 5;  // chunks of 5, 5, 5 and 1 frames
+        const std::string plan = dir.file("plan.json");
+        ASSERT_SF_OK(sf_plan_write(filter.get(), in.c_str(), nullptr, dir.file("out.####.exr").c_str(), &wo, nullptr, &po,
+                                   plan.c_str()));
+        const std::vector<PlanTask> tasks = plan_tasks(read_text(plan));
+        ASSERT_EQ(tasks.size(), 1u + 4 + 1 + 4);
+        EXPECT_EQ(tasks[0].phase, "analysis");
+        EXPECT_EQ(tasks[5].phase, "guides");
+        EXPECT_EQ(tasks[5].after, "1, 2, 3, 4");
+        EXPECT_EQ(tasks[9].phase, "window");
+        // Run out of order where the dependencies allow: the last chunks first.
+        for (const int64_t t : {0, 4, 3, 2, 1, 5, 9, 8, 7, 6}) ASSERT_SF_OK(sf_plan_run_task(plan.c_str(), t, nullptr));
+        EXPECT_EQ(samples_of(read_sequence(dir.file("out.####.exr")).get()),
+                  samples_of(read_sequence(dir.file("single.####.exr")).get()));
+        const std::string analysis = read_text(dir.file("plan.json.work/analysis/analysis.json"));
+        EXPECT_EQ(analysis.find("\"change\"") != std::string::npos, c.name != "no_change_test" && c.moving);
+        EXPECT_EQ(analysis.find("\"still\": true") != std::string::npos, !c.moving);
+    }
 }
