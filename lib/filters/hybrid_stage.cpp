@@ -70,6 +70,81 @@ double gain_of(const HybridAnalysis& analysis, int64_t f) {
     return analysis.frame_gain.empty() ? 1.0 : analysis.frame_gain[static_cast<size_t>(f)];
 }
 
+// A frame's buffers while its first pass is made (first_pass_bytes), kept from frame to frame where
+// the budget holds them.
+struct FirstPassScratch {
+    std::vector<float> model, estimate, own;
+    DiffusionWorkspace diffusion;
+};
+
+// Each frame's first pass from its I_T: I_T with the light diffusion pass; the frame's own diffusion
+// where I_T ghosts (the flow then follows the object, and a pixel with nothing to average is no
+// worse than a single-frame filter); its sums into the analysis. Frames come from any thread, each once.
+class FirstPasses {
+public:
+    FirstPasses(const FrameSource& source, HybridAnalysis& analysis, const HybridStageOptions& options,
+                const ParamSet& refine, bool keep)
+        : source_(source), analysis_(analysis), moving_(moving_mask(analysis)),
+          own_first_(source.shape(), analysis.crossings, analysis.change.get(), moving_, options.mc.half_width,
+                     options.single_frame),
+          refine_("postfilter", refine) {
+        const auto F = static_cast<size_t>(source.shape().frames);
+        for (auto* v : {&analysis.first_sums, &analysis.still_levels}) v->resize(F, 0.0);
+        analysis.own_counts.resize(F, 0);
+        refine_.keep_buffers(keep);
+        scratch_.keep(keep);
+    }
+    // Frame t of I_T read from the analysis' parked frames.
+    void frame(int64_t t, const std::function<void(int64_t, const float*)>& park) {
+        auto scratch = scratch_.borrow();
+        scratch->model.resize(static_cast<size_t>(source_.shape().pixels() * source_.shape().channels));
+        analysis_.temporal->read_rows(t, 0, source_.shape().height, scratch->model.data());
+        make(t, scratch->model.data(), *scratch, park);
+    }
+    // Frame t of I_T as the rebuild hands it on.
+    void frame(int64_t t, const float* model, const std::function<void(int64_t, const float*)>& park) {
+        auto scratch = scratch_.borrow();
+        make(t, model, *scratch, park);
+    }
+
+private:
+    static std::vector<uint8_t> moving_mask(const HybridAnalysis& analysis) {
+        std::vector<uint8_t> moving(analysis.grown.size(), 0);
+        for (size_t p = 0; p < moving.size(); ++p) moving[p] = analysis.grown[p] > 0.0f ? 1 : 0;
+        return moving;
+    }
+    void make(int64_t t, const float* model, FirstPassScratch& scratch, const std::function<void(int64_t, const float*)>& park) {
+        const Shape& s = source_.shape();
+        const int64_t P = s.pixels(), C = s.channels, frame_samples = P * C;
+        std::vector<float>& estimate = scratch.estimate;
+        estimate.assign(model, model + frame_samples);
+        refine_.apply(t, estimate.data(), s, source_.attributes());
+        if (!own_first_.never()) {
+            std::vector<float>& own_frame = scratch.own;
+            own_frame.resize(static_cast<size_t>(frame_samples));
+            read_input(source_, analysis_, t, own_frame.data());  // every row
+            analysis_.own_counts[static_cast<size_t>(t)] = own_first_.apply(t, own_frame.data(), model, estimate.data(), scratch.diffusion);
+        }
+        analysis_.first_sums[static_cast<size_t>(t)] = positive_sum(estimate.data(), frame_samples);
+        double level = 0;
+        for (int64_t p = 0; p < P; ++p)
+            if (!moving_[static_cast<size_t>(p)])
+                for (int64_t c = 0; c < C; ++c) {
+                    const float v = estimate[static_cast<size_t>(p * C + c)];
+                    if (v > 0 && std::isfinite(v)) level += v;
+                }
+        analysis_.still_levels[static_cast<size_t>(t)] = level;
+        park(t, estimate.data());
+    }
+
+    const FrameSource& source_;
+    HybridAnalysis& analysis_;
+    std::vector<uint8_t> moving_;
+    OwnFirstPass own_first_;
+    FrameStagePool refine_;
+    WorkspacePool<FirstPassScratch> scratch_;
+};
+
 }  // namespace
 
 HybridStageOptions hybrid_stage_options(const ParamSet& p, bool prefiltered) {
@@ -212,12 +287,19 @@ void HybridStage::frames_from(const FrameSource& source, const WindowedFiles& fi
 
 HybridAnalysis HybridStage::analyse(const FrameSource& source, const StageContext& ctx, Results& results,
                                     const FrameConsumer* still_output) const {
-    HybridAnalysis analysis = analyse_passes(source, ctx, results, still_output);
-    if (analysis.still) return analysis;
+    // Each frame's first pass is made as the rebuild hands its I_T on (on the rebuild's threads, the
+    // frame in hand), the same as first_pass makes it from the parked frame.
     auto first = std::make_unique<ScratchFrames>(source.shape(), source.attributes());
     ScratchFrames& parked = *first;
-    first_pass(source, analysis, 0, source.shape().frames, [&](int64_t t, const float* pixels) { parked.write_frame(t, pixels); },
-               ctx);
+    const auto park = [&](int64_t t, const float* pixels) { parked.write_frame(t, pixels); };
+    std::unique_ptr<FirstPasses> passes;
+    const ModelHook hook = [&](HybridAnalysis& maps, bool keep) {
+        passes = std::make_unique<FirstPasses>(source, maps, options_, refine_, keep);
+        return std::function<void(int64_t, const float*)>([&](int64_t t, const float* model) { passes->frame(t, model, park); });
+    };
+    HybridAnalysis analysis = analyse_passes(source, ctx, results, still_output, &hook);
+    passes.reset();  // the rebuild's threads' buffers; the window counts its own (window_bytes)
+    if (analysis.still) return analysis;
     analysis.first_pass = first.get();
     analysis.held.push_back(std::move(first));
     guides(source.shape(), analysis, source.attributes(), ctx, results);
@@ -225,7 +307,7 @@ HybridAnalysis HybridStage::analyse(const FrameSource& source, const StageContex
 }
 
 HybridAnalysis HybridStage::analyse_passes(const FrameSource& source, const StageContext& ctx, Results& results,
-                                           const FrameConsumer* still_output) const {
+                                           const FrameConsumer* still_output, const ModelHook* each_model) const {
     const Shape& s = source.shape();
     const int64_t F = s.frames, P = s.pixels(), C = s.channels, H = s.height, W = s.width;
     const int64_t frame_samples = P * C;
@@ -369,8 +451,12 @@ HybridAnalysis HybridStage::analyse_passes(const FrameSource& source, const Stag
     inner.threads = fitting_threads(ctx, [&](int t) { return rebuild_bytes(s, t, false); });
     const bool keep_rebuild = rebuild_bytes(s, inner.threads, true) <= ctx.budget_bytes;
     inner.budget_bytes = ctx.budget_bytes - maps_bytes(s) - first_pass_bytes(s, inner.threads, keep_rebuild);
-    temporal.reconstruct(source, std::move(stats), [&](int64_t t, float* pixels) { temporal_frames.write_frame(t, pixels); },
-                         inner, own);
+    const std::function<void(int64_t, const float*)> hook =
+        each_model ? (*each_model)(analysis, keep_rebuild) : std::function<void(int64_t, const float*)>();
+    temporal.reconstruct(source, std::move(stats), [&](int64_t t, float* pixels) {
+        temporal_frames.write_frame(t, pixels);
+        if (hook) hook(t, pixels);
+    }, inner, own);
     analysis.temporal = &temporal_frames;
     for (const char* name : {"rank", "mean_rank"})
         if (own.has(name)) results.copy(own, name, std::string("temporal_") + name);
@@ -385,60 +471,13 @@ HybridAnalysis HybridStage::analyse_passes(const FrameSource& source, const Stag
 
 void HybridStage::first_pass(const FrameSource& source, HybridAnalysis& analysis, int64_t f0, int64_t f1,
                              const std::function<void(int64_t, const float*)>& park, const StageContext& ctx) const {
-    const Shape& s = source.shape();
-    const int64_t F = s.frames, P = s.pixels(), C = s.channels, H = s.height;
-    const int64_t frame_samples = P * C;
     const Progress none;
     const Progress& progress = ctx.progress ? *ctx.progress : none;
-    std::vector<uint8_t> moving(static_cast<size_t>(P), 0);
-    for (int64_t p = 0; p < P; ++p) moving[static_cast<size_t>(p)] = analysis.grown[static_cast<size_t>(p)] > 0.0f ? 1 : 0;
-    const OwnFirstPass own_first(s, analysis.crossings, analysis.change.get(), moving, options_.mc.half_width,
-                                 options_.single_frame);
-    for (auto* v : {&analysis.first_sums, &analysis.still_levels}) v->resize(static_cast<size_t>(F), 0.0);
-    analysis.own_counts.resize(static_cast<size_t>(F), 0);
-    // As many threads as the budget holds frames being diffused beside the model (rebuild_bytes:
-    // the rebuild's own count). The light pass keeps its buffers from frame to frame where the budget
-    // holds them at that count (they save the system zeroing fresh pages for every frame).
-    const int threads = fitting_threads(ctx, [&](int t) { return rebuild_bytes(s, t, false); });
-    const bool keep = rebuild_bytes(s, threads, true) <= ctx.budget_bytes;
-    FrameStagePool refine("postfilter", refine_);
-    refine.keep_buffers(keep);
-    // The frames and the own diffusion's buffers of each thread, kept the same way (first_pass_bytes).
-    struct FirstPassScratch {
-        std::vector<float> model, estimate, own;
-        DiffusionWorkspace diffusion;
-    };
-    WorkspacePool<FirstPassScratch> scratch_pool;
-    scratch_pool.keep(keep);
-    // I_T with the light diffusion pass; the frame's own diffusion where I_T ghosts (the flow then
-    // follows the object, and a pixel with nothing to average is no worse than a single-frame filter).
-    parallel_for(f1 - f0, threads, [&](int64_t i) {
-        const int64_t t = f0 + i;
-        auto scratch = scratch_pool.borrow();
-        std::vector<float>& model = scratch->model;
-        std::vector<float>& estimate = scratch->estimate;
-        model.resize(static_cast<size_t>(frame_samples));
-        analysis.temporal->read_rows(t, 0, H, model.data());
-        estimate = model;
-        refine.apply(t, estimate.data(), s, source.attributes());
-        if (!own_first.never()) {
-            std::vector<float>& own_frame = scratch->own;
-            own_frame.resize(static_cast<size_t>(frame_samples));
-            read_input(source, analysis, t, own_frame.data());  // every row
-            analysis.own_counts[static_cast<size_t>(t)] =
-                own_first.apply(t, own_frame.data(), model.data(), estimate.data(), scratch->diffusion);
-        }
-        analysis.first_sums[static_cast<size_t>(t)] = positive_sum(estimate.data(), frame_samples);
-        double level = 0;
-        for (int64_t p = 0; p < P; ++p)
-            if (!moving[static_cast<size_t>(p)])
-                for (int64_t c = 0; c < C; ++c) {
-                    const float v = estimate[static_cast<size_t>(p * C + c)];
-                    if (v > 0 && std::isfinite(v)) level += v;
-                }
-        analysis.still_levels[static_cast<size_t>(t)] = level;
-        park(t, estimate.data());
-    }, {progress, 0.35, 0.15, "first pass"});
+    // As many threads, and buffers kept from frame to frame, as when the first passes are made while
+    // the model rebuilds I_T (rebuild_bytes).
+    const int threads = fitting_threads(ctx, [&](int t) { return rebuild_bytes(source.shape(), t, false); });
+    FirstPasses passes(source, analysis, options_, refine_, rebuild_bytes(source.shape(), threads, true) <= ctx.budget_bytes);
+    parallel_for(f1 - f0, threads, [&](int64_t i) { passes.frame(f0 + i, park); }, {progress, 0.35, 0.15, "first pass"});
 }
 
 void HybridStage::guides(const Shape& s, HybridAnalysis& analysis, const Sequence& attributes, const StageContext& ctx,

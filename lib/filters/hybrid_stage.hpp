@@ -87,9 +87,12 @@ public:
     // (analysis.temporal) for the window to hand on.
     HybridAnalysis analyse(const FrameSource& source, const StageContext& context, Results& results,
                            const FrameConsumer* still_output) const;
+    // Made once the maps are known (the analysis so far; keep: whether the rebuild's threads may keep
+    // their buffers), called with each frame of I_T as it is rebuilt, from the rebuild's threads.
+    using ModelHook = std::function<std::function<void(int64_t, const float*)>(HybridAnalysis&, bool keep)>;
     // Steps 1 and 2, and I_T parked (analysis.temporal): the passes over the whole shot.
     HybridAnalysis analyse_passes(const FrameSource& source, const StageContext& context, Results& results,
-                                  const FrameConsumer* still_output) const;
+                                  const FrameConsumer* still_output, const ModelHook* each_model = nullptr) const;
     // Step 3 for frames [f0, f1): each frame's first pass, handed to `park`, and its sums (analysis'
     // first_sums, still_levels, own_counts; sized to the shot here). Reads those frames of I_T and
     // the input alone.
