@@ -327,7 +327,8 @@ void guides_task(Run& run) {
 // Frames [f0, f1) from the analysis, reading frames f0 - h .. f1 - 1 + h of the input and of the
 // guides; each output frame staged and moved into place.
 void window_task(Run& run, const JsonValue& task, int64_t index) {
-    const auto [f0, f1] = task_frames(run, task);
+    const auto frames = task_frames(run, task);  // named: the frame consumer below captures f0
+    const int64_t f0 = frames.first, f1 = frames.second;
     std::unique_ptr<StreamStage> holder;
     const WindowedStage& stage = windowed_stage(run, holder);
     // The phases before it there before any frame is staged (run before them, it leaves nothing).

@@ -310,7 +310,6 @@ HybridAnalysis HybridStage::analyse_passes(const FrameSource& source, const Stag
                                            const FrameConsumer* still_output, const ModelHook* each_model) const {
     const Shape& s = source.shape();
     const int64_t F = s.frames, P = s.pixels(), C = s.channels, H = s.height, W = s.width;
-    const int64_t frame_samples = P * C;
     const Progress none;
     const Progress& progress = ctx.progress ? *ctx.progress : none;
     const LowRankStage temporal(options_.temporal), still(options_.still);
