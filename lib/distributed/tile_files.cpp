@@ -10,6 +10,7 @@
 #include <cstring>
 #include <filesystem>
 
+#include "pipeline/positioned_io.hpp"
 #include "statfilter/error.hpp"
 
 namespace statfilter {
@@ -99,13 +100,7 @@ AtomicFile::~AtomicFile() {
 }
 
 void AtomicFile::write_at(int64_t offset, const void* data, size_t bytes) {
-    const char* p = static_cast<const char*>(data);
-    while (bytes > 0) {
-        const ssize_t n = ::pwrite(fd_, p, bytes, static_cast<off_t>(offset));
-        if (n < 0 && errno == EINTR) continue;
-        if (n <= 0) throw Error(Status::Io, system_error("cannot write", temporary_));
-        p += n, offset += n, bytes -= static_cast<size_t>(n);
-    }
+    statfilter::write_at(fd_, data, bytes, offset, "cannot write '" + temporary_ + "'");
 }
 
 void AtomicFile::commit() {
@@ -127,15 +122,11 @@ void write_file(const std::string& path, const void* data, size_t bytes) {
 void read_file_at(const std::string& path, int64_t offset, void* data, size_t bytes) {
     const int fd = ::open(path.c_str(), O_RDONLY);
     if (fd < 0) throw Error(Status::Io, system_error("cannot open", path) + " (has the task that writes it run?)");
-    char* p = static_cast<char*>(data);
-    while (bytes > 0) {
-        const ssize_t n = ::pread(fd, p, bytes, static_cast<off_t>(offset));
-        if (n < 0 && errno == EINTR) continue;
-        if (n <= 0) {
-            ::close(fd);
-            throw Error(Status::Io, "'" + path + "' is shorter than expected (" + std::to_string(offset) + " bytes)");
-        }
-        p += n, offset += n, bytes -= static_cast<size_t>(n);
+    try {
+        read_at(fd, data, bytes, offset, "cannot read '" + path + "' at byte " + std::to_string(offset));
+    } catch (...) {
+        ::close(fd);
+        throw;
     }
     ::close(fd);
 }

@@ -8,6 +8,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "pipeline/positioned_io.hpp"
 #include "statfilter/error.hpp"
 
 namespace statfilter {
@@ -114,17 +115,8 @@ public:
     bool holds(int64_t f) const { return f >= begin_ && f < begin_ + count_; }
     void read_rows(int64_t f, int64_t y0, int64_t y1, float* dst) const override {
         const int64_t row = shape_.width * shape_.channels * static_cast<int64_t>(sizeof(float));
-        auto* data = reinterpret_cast<char*>(dst);
-        size_t bytes = static_cast<size_t>((y1 - y0) * row);
-        off_t offset = static_cast<off_t>(((f - begin_) * shape_.height + y0) * row);
-        while (bytes > 0) {
-            const ssize_t n = ::pread(fd_, data, bytes, offset);
-            if (n < 0 && errno == EINTR) continue;
-            if (n <= 0) throw Error(Status::Io, "cannot read '" + path_ + "': " + (n < 0 ? std::strerror(errno) : "short file"));
-            data += n;
-            bytes -= static_cast<size_t>(n);
-            offset += n;
-        }
+        read_at(fd_, dst, static_cast<size_t>((y1 - y0) * row), ((f - begin_) * shape_.height + y0) * row,
+                "cannot read '" + path_ + "'");
     }
 
 private:
@@ -260,17 +252,8 @@ FirstPassFiles::~FirstPassFiles() {
 }
 
 void FirstPassFiles::write(int64_t frame, const float* pixels) {
-    const char* data = reinterpret_cast<const char*>(pixels);
-    size_t bytes = static_cast<size_t>(frame_bytes_);
-    off_t offset = static_cast<off_t>((frame - begin_) * frame_bytes_);
-    while (bytes > 0) {
-        const ssize_t n = ::pwrite(fd_, data, bytes, offset);
-        if (n < 0 && errno == EINTR) continue;
-        if (n <= 0) throw Error(Status::Io, "cannot write '" + in(dir_, "first.f32") + "': " + std::strerror(errno));
-        data += n;
-        bytes -= static_cast<size_t>(n);
-        offset += n;
-    }
+    write_at(fd_, pixels, static_cast<size_t>(frame_bytes_), (frame - begin_) * frame_bytes_,
+             "cannot write '" + in(dir_, "first.f32") + "'");
 }
 
 void FirstPassFiles::finish(const HybridAnalysis& a) {

@@ -9,25 +9,14 @@
 #include <string>
 #include <vector>
 
+#include "pipeline/positioned_io.hpp"
 #include "statfilter/error.hpp"
 
 namespace statfilter {
 namespace {
 
-// pread/pwrite until done: both may move fewer bytes than asked.
-void transfer(int fd, char* data, size_t bytes, off_t offset, bool write) {
-    while (bytes > 0) {
-        const ssize_t n = write ? ::pwrite(fd, data, bytes, offset) : ::pread(fd, data, bytes, offset);
-        if (n < 0 && errno == EINTR) continue;
-        if (n <= 0)
-            throw Error(Status::Io, std::string("scratch file for frames between stages: ") +
-                                        (n < 0 ? std::strerror(errno) : "unexpected end of file") +
-                                        " (set TMPDIR to a disk with room)");
-        data += n;
-        bytes -= static_cast<size_t>(n);
-        offset += n;
-    }
-}
+const char kWhat[] = "scratch file for frames between stages";
+const char kHint[] = " (set TMPDIR to a disk with room)";
 
 }  // namespace
 
@@ -49,8 +38,7 @@ ScratchFrames::~ScratchFrames() {
 
 void ScratchFrames::read_rows(int64_t f, int64_t y0, int64_t y1, float* dst) const {
     const int64_t row = shape_.width * shape_.channels * static_cast<int64_t>(sizeof(float));
-    transfer(fd_, reinterpret_cast<char*>(dst), static_cast<size_t>((y1 - y0) * row),
-             static_cast<off_t>((f * shape_.height + y0) * row), false);
+    read_at(fd_, dst, static_cast<size_t>((y1 - y0) * row), (f * shape_.height + y0) * row, kWhat, kHint);
     if (gain_.empty()) return;
     const int64_t count = (y1 - y0) * shape_.width;
     for (int64_t p = 0; p < count; ++p)
@@ -59,8 +47,7 @@ void ScratchFrames::read_rows(int64_t f, int64_t y0, int64_t y1, float* dst) con
 
 void ScratchFrames::write_frame(int64_t f, const float* pixels) {
     const int64_t bytes = shape_.pixels() * shape_.channels * static_cast<int64_t>(sizeof(float));
-    transfer(fd_, reinterpret_cast<char*>(const_cast<float*>(pixels)), static_cast<size_t>(bytes),
-             static_cast<off_t>(f * bytes), true);
+    write_at(fd_, pixels, static_cast<size_t>(bytes), f * bytes, kWhat, kHint);
 }
 
 }  // namespace statfilter
