@@ -65,109 +65,125 @@ double log_epsilon(const std::vector<double>& u, const DiffusionOptions& o) {
 // The explicit steps on width x height pixels whose rows start `stride` pixels apart (a window of a
 // larger frame), written back to the rows and columns of `keep` (window coordinates); the frame's eps
 // and K measured here, or given (a window of a larger frame diffuses with its frame's).
+//
+// A step goes down the rows once: row y's log values, edge weights and new values are made from two
+// rows of log values and of south weights, not whole images of them. The arithmetic of each sample
+// is the same as a whole image at a time, so are the bits; the working set is two images (u and the
+// next step) and a few rows, the log image whole only while K is measured.
 void diffuse(float* pixels, int64_t stride, int64_t width, int64_t height, int64_t channels, const PixelBox& keep,
              const DiffusionOptions& o, const DiffusionScale* given, DiffusionWorkspace& work) {
     const int64_t n = width * height * channels;
+    const int64_t row = width * channels;
+    if (n == 0) return;
     std::vector<double>& u = work.u;
     std::vector<double>& next = work.next;
     u.resize(static_cast<size_t>(n));
     next.resize(static_cast<size_t>(n));
     for (int64_t y = 0; y < height; ++y)
-        std::copy_n(pixels + y * stride * channels, width * channels, u.begin() + y * width * channels);
+        std::copy_n(pixels + y * stride * channels, row, u.begin() + y * row);
     const double eps = given ? given->eps : log_epsilon(u, o);
     // The values the conductances are computed on: the log image, or u itself.
     const bool separate = o.log_domain && o.conserve;
-    std::vector<double>& edges_of = work.edges;
-    edges_of.resize(separate ? static_cast<size_t>(n) : 0);
-    auto to_log = [&](const std::vector<double>& from, std::vector<double>& to) {
-        if (&to != &from) std::copy(from.begin(), from.end(), to.begin());
-        fast_math::signed_log1p(to.data(), to.size(), 1.0 / eps);  // within 4 ulp of std::log1p, vectorised
-    };
-    if (separate) to_log(u, edges_of);
-    else if (o.log_domain) to_log(u, u);
-    const std::vector<double>& g = separate ? edges_of : u;
-    const int64_t row = width * channels;
-    const double k = given ? given->k : o.k * gradient_noise(g, width, height, channels, work.east);
+    std::vector<double>& logs = work.edges;
+    if (o.log_domain && !separate) fast_math::signed_log1p(u.data(), u.size(), 1.0 / eps);
+    double k = 0;
+    if (given) {
+        k = given->k;
+    } else if (separate) {  // K from the whole log image, made once here
+        logs.assign(u.begin(), u.end());
+        fast_math::signed_log1p(logs.data(), logs.size(), 1.0 / eps);  // within 4 ulp of std::log1p, vectorised
+        k = o.k * gradient_noise(logs, width, height, channels, work.east);
+    } else {
+        k = o.k * gradient_noise(u, width, height, channels, work.east);
+    }
     if (!(k > 0)) {  // a flat frame: nothing to diffuse
         return;
     }
     const double inv_k2 = 1.0 / (k * k);
+    // Row y of the values the conductances are measured on: rows y and y + 1 of the log image take
+    // turns in two rows of `logs`, or u's own row.
+    if (separate && static_cast<int64_t>(logs.size()) < 2 * row) logs.resize(static_cast<size_t>(2 * row));
+    const auto edges_row = [&](int64_t y) -> const double* {
+        if (!separate) return &u[y * row];
+        double* to = &logs[(y & 1) * row];
+        std::copy_n(&u[y * row], row, to);
+        fast_math::signed_log1p(to, static_cast<size_t>(row), 1.0 / eps);
+        return to;
+    };
     // Each edge's conductance once per step (east and south of every pixel), shared by the two
-    // pixels it joins: half the exp/sqrt calls of evaluating it from both sides, same values.
+    // pixels it joins: half the exp/sqrt calls of evaluating it from both sides, same values. East:
+    // row y's; south: rows y - 1 and y, taking turns.
     std::vector<double>& east = work.east;
     std::vector<double>& south = work.south;
-    east.resize(static_cast<size_t>(width * height));
-    south.resize(east.size());
-    // r = |grad|^2 / channels / K^2 along each edge, then every edge's conductance in one call (a loop
+    east.resize(static_cast<size_t>(width));
+    south.resize(static_cast<size_t>(2 * width));
+    // r = |grad|^2 / channels / K^2 along each edge, then a row's conductances in one call (a loop
     // that vectorises: the exp was a tenth of a balanced run).
-    auto squared = [&](const double* a, const double* b) {  // a and b point into g
+    auto squared = [&](const double* a, const double* b) {
         double g2 = 0;
         for (int64_t ch = 0; ch < channels; ++ch) g2 += (b[ch] - a[ch]) * (b[ch] - a[ch]);
         return g2 / channels * inv_k2;
     };
-    auto conductances = [&](std::vector<double>& r) {
+    auto conductances = [&](double* r, int64_t count) {
         if (o.flux == DiffusionFlux::PeronaMalik) {
-            fast_math::exp_of_negative(r.data(), r.size());
-            for (double& v : r) v *= o.dt;
+            fast_math::exp_of_negative(r, static_cast<size_t>(count));
+            for (int64_t i = 0; i < count; ++i) r[i] *= o.dt;
         } else {
-            for (double& v : r) v = o.dt * (1.0 / std::sqrt(1.0 + v));
+            for (int64_t i = 0; i < count; ++i) r[i] = o.dt * (1.0 / std::sqrt(1.0 + r[i]));
         }
     };
     // One pixel's step: its value plus the flux from each neighbour present, west, east, north,
     // south in that order (Neumann borders: a missing neighbour contributes no flux). The interior
-    // of a row takes the same sums without the border tests.
-    const auto step = [&](int64_t y, int64_t x) {
+    // of a row takes the same sums without the border tests. we, wn, ws: the row's east weights and
+    // the south weights of the row above and of this one.
+    const auto step = [&](int64_t y, int64_t x, const double* we, const double* wn, const double* ws) {
         const double* c = &u[y * row + x * channels];
         double* out = &next[y * row + x * channels];
         for (int64_t ch = 0; ch < channels; ++ch) out[ch] = c[ch];
         const double* neighbours[4] = {x > 0 ? c - channels : nullptr, x + 1 < width ? c + channels : nullptr,
                                        y > 0 ? c - row : nullptr, y + 1 < height ? c + row : nullptr};
-        const double weights[4] = {x > 0 ? east[y * width + x - 1] : 0.0, east[y * width + x],
-                                   y > 0 ? south[(y - 1) * width + x] : 0.0, south[y * width + x]};
+        const double weights[4] = {x > 0 ? we[x - 1] : 0.0, we[x], y > 0 ? wn[x] : 0.0, ws[x]};
         for (int i = 0; i < 4; ++i) {
             if (!neighbours[i]) continue;
             for (int64_t ch = 0; ch < channels; ++ch) out[ch] += weights[i] * (neighbours[i][ch] - c[ch]);
         }
     };
     for (int it = 0; it < o.iterations; ++it) {
-        if (separate && it > 0) to_log(u, edges_of);
+        const double* g = edges_row(0);
         for (int64_t y = 0; y < height; ++y) {
-            const double* c = &g[y * row];
-            double* e = &east[y * width];
-            for (int64_t x = 0; x + 1 < width; ++x) e[x] = squared(c + x * channels, c + (x + 1) * channels);
-            e[width - 1] = 0.0;
-            double* so = &south[y * width];
-            if (y + 1 < height)
-                for (int64_t x = 0; x < width; ++x) so[x] = squared(c + x * channels, c + x * channels + row);
+            const double* below = y + 1 < height ? edges_row(y + 1) : nullptr;
+            double* we = east.data();
+            for (int64_t x = 0; x + 1 < width; ++x) we[x] = squared(g + x * channels, g + (x + 1) * channels);
+            we[width - 1] = 0.0;
+            double* ws = &south[(y & 1) * width];
+            if (below)
+                for (int64_t x = 0; x < width; ++x) ws[x] = squared(g + x * channels, below + x * channels);
             else
-                std::fill(so, so + width, 0.0);
-        }
-        conductances(east);
-        conductances(south);
-        for (int64_t y = 0; y < height; ++y) {
+                std::fill(ws, ws + width, 0.0);
+            conductances(we, width);
+            conductances(ws, width);
+            const double* wn = &south[((y + 1) & 1) * width];  // row y - 1's, when there is one
             if (y == 0 || y + 1 == height || width < 3) {
-                for (int64_t x = 0; x < width; ++x) step(y, x);
-                continue;
-            }
-            step(y, 0);
-            const double* we = &east[y * width];
-            const double* wn = &south[(y - 1) * width];
-            const double* ws = &south[y * width];
-            for (int64_t x = 1; x + 1 < width; ++x) {
-                const double* c = &u[y * row + x * channels];
-                double* out = &next[y * row + x * channels];
-                const double w0 = we[x - 1], w1 = we[x], w2 = wn[x], w3 = ws[x];
-                for (int64_t ch = 0; ch < channels; ++ch) {
-                    const double v = c[ch];
-                    double r = v;
-                    r += w0 * (c[ch - channels] - v);
-                    r += w1 * (c[ch + channels] - v);
-                    r += w2 * (c[ch - row] - v);
-                    r += w3 * (c[ch + row] - v);
-                    out[ch] = r;
+                for (int64_t x = 0; x < width; ++x) step(y, x, we, wn, ws);
+            } else {
+                step(y, 0, we, wn, ws);
+                for (int64_t x = 1; x + 1 < width; ++x) {
+                    const double* c = &u[y * row + x * channels];
+                    double* out = &next[y * row + x * channels];
+                    const double w0 = we[x - 1], w1 = we[x], w2 = wn[x], w3 = ws[x];
+                    for (int64_t ch = 0; ch < channels; ++ch) {
+                        const double v = c[ch];
+                        double r = v;
+                        r += w0 * (c[ch - channels] - v);
+                        r += w1 * (c[ch + channels] - v);
+                        r += w2 * (c[ch - row] - v);
+                        r += w3 * (c[ch + row] - v);
+                        out[ch] = r;
+                    }
                 }
+                step(y, width - 1, we, wn, ws);
             }
-            step(y, width - 1);
+            g = below;
         }
         u.swap(next);
     }

@@ -30,8 +30,8 @@ struct DiffusionOptions {
 
 DiffusionFlux parse_diffusion_flux(const std::string& name);
 
-// The buffers one diffusion works in (the values, the next step, the log image and the edges'
-// conductances, in double), kept between calls by a caller that diffuses frame after frame: at 1080p
+// The buffers one diffusion works in (the values and the next step, the log image while K is
+// measured and then two of its rows, a row of east and two of south conductances, in double), kept between calls by a caller that diffuses frame after frame: at 1080p
 // they are 0.2 GB a frame, which the system would otherwise map and zero afresh for every frame. Every
 // element is written before it is read, so a reused workspace gives the same bits as a new one.
 struct DiffusionWorkspace {
@@ -66,8 +66,9 @@ void diffuse_region(float* pixels, int64_t width, int64_t height, int64_t channe
 void diffuse_region(float* pixels, int64_t width, int64_t height, int64_t channels, const PixelBox& region,
                     const DiffusionOptions& options, DiffusionWorkspace& workspace);
 // The bytes diffuse_frame holds besides the frame itself, at most (the log domain with conserve):
-// the frame, the next step and the log values in double, and two conductances a pixel (the gradient
-// spread's sample, one double a pixel, is freed before they are made).
+// the frame, the next step and the log values in double, and the gradient spread's sample (a double
+// a pixel); counted with a second double a pixel, as when the conductances were whole images, so
+// budgets, and the bands they choose, stay as they were.
 double diffusion_working_bytes(int64_t pixels, int64_t channels);
 
 }  // namespace statfilter
