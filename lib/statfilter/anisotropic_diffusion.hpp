@@ -30,10 +30,11 @@ struct DiffusionOptions {
 
 DiffusionFlux parse_diffusion_flux(const std::string& name);
 
-// The buffers one diffusion works in (the values and the next step, the log image while K is
-// measured and then two of its rows, a row of east and two of south conductances, in double), kept between calls by a caller that diffuses frame after frame: at 1080p
-// they are 0.2 GB a frame, which the system would otherwise map and zero afresh for every frame. Every
-// element is written before it is read, so a reused workspace gives the same bits as a new one.
+// The buffers one diffusion works in (the values and the next step; the log image while K is
+// measured, then two of its rows; a row of east and two of south conductances; all in double), kept
+// between calls by a caller that diffuses frame after frame: at 1080p they are 0.1-0.17 GB a frame,
+// which the system would otherwise map and zero afresh for every frame. Every element is written
+// before it is read, so a reused workspace gives the same bits as a new one.
 struct DiffusionWorkspace {
     std::vector<double> u, next, edges, east, south;
 };
