@@ -63,51 +63,38 @@ double log_epsilon(const std::vector<double>& u, const DiffusionOptions& o) {
 }
 
 // The explicit steps on width x height pixels whose rows start `stride` pixels apart (a window of a
-// larger frame), written back to the rows and columns of `keep` (window coordinates); the frame's eps
-// and K measured here, or given (a window of a larger frame diffuses with its frame's).
+// larger frame), written back to the rows and columns of `keep` (window coordinates), with the
+// frame's eps and K (diffusion_scale: a window of a larger frame diffuses with its frame's).
 //
 // A step goes down the rows once: row y's log values, edge weights and new values are made from two
 // rows of log values and of south weights, not whole images of them. The arithmetic of each sample
 // is the same as a whole image at a time, so are the bits; the working set is two images (u and the
-// next step) and a few rows, the log image whole only while K is measured.
+// next step) and a few rows.
 void diffuse(float* pixels, int64_t stride, int64_t width, int64_t height, int64_t channels, const PixelBox& keep,
-             const DiffusionOptions& o, const DiffusionScale* given, DiffusionWorkspace& work) {
+             const DiffusionOptions& o, const DiffusionScale& scale, DiffusionWorkspace& work) {
     const int64_t n = width * height * channels;
     const int64_t row = width * channels;
-    if (n == 0) return;
+    const double eps = scale.eps, k = scale.k;
+    if (n == 0 || !(k > 0)) return;  // a flat frame: nothing to diffuse
     std::vector<double>& u = work.u;
     std::vector<double>& next = work.next;
     u.resize(static_cast<size_t>(n));
     next.resize(static_cast<size_t>(n));
     for (int64_t y = 0; y < height; ++y)
         std::copy_n(pixels + y * stride * channels, row, u.begin() + y * row);
-    const double eps = given ? given->eps : log_epsilon(u, o);
     // The values the conductances are computed on: the log image, or u itself.
     const bool separate = o.log_domain && o.conserve;
-    std::vector<double>& logs = work.edges;
     if (o.log_domain && !separate) fast_math::signed_log1p(u.data(), u.size(), 1.0 / eps);
-    double k = 0;
-    if (given) {
-        k = given->k;
-    } else if (separate) {  // K from the whole log image, made once here
-        logs.assign(u.begin(), u.end());
-        fast_math::signed_log1p(logs.data(), logs.size(), 1.0 / eps);  // within 4 ulp of std::log1p, vectorised
-        k = o.k * gradient_noise(logs, width, height, channels, work.east);
-    } else {
-        k = o.k * gradient_noise(u, width, height, channels, work.east);
-    }
-    if (!(k > 0)) {  // a flat frame: nothing to diffuse
-        return;
-    }
     const double inv_k2 = 1.0 / (k * k);
     // Row y of the values the conductances are measured on: rows y and y + 1 of the log image take
     // turns in two rows of `logs`, or u's own row.
-    if (separate && static_cast<int64_t>(logs.size()) < 2 * row) logs.resize(static_cast<size_t>(2 * row));
+    std::vector<double>& logs = work.edges;
+    if (separate) logs.resize(static_cast<size_t>(2 * row));
     const auto edges_row = [&](int64_t y) -> const double* {
         if (!separate) return &u[y * row];
         double* to = &logs[(y & 1) * row];
         std::copy_n(&u[y * row], row, to);
-        fast_math::signed_log1p(to, static_cast<size_t>(row), 1.0 / eps);
+        fast_math::signed_log1p(to, static_cast<size_t>(row), 1.0 / eps);  // within 4 ulp of std::log1p, vectorised
         return to;
     };
     // Each edge's conductance once per step (east and south of every pixel), shared by the two
@@ -217,7 +204,8 @@ DiffusionScale diffusion_scale(const float* pixels, int64_t width, int64_t heigh
 void diffuse_frame(float* pixels, int64_t width, int64_t height, int64_t channels, const DiffusionOptions& o,
                    DiffusionWorkspace& ws) {
     check_options(o);
-    diffuse(pixels, width, width, height, channels, PixelBox{0, 0, width, height}, o, nullptr, ws);
+    const DiffusionScale scale = diffusion_scale(pixels, width, height, channels, o, ws);
+    diffuse(pixels, width, width, height, channels, PixelBox{0, 0, width, height}, o, scale, ws);
 }
 
 void diffuse_frame(float* pixels, int64_t width, int64_t height, int64_t channels, const DiffusionOptions& o) {
@@ -244,7 +232,7 @@ void diffuse_region(float* pixels, int64_t width, int64_t height, int64_t channe
     const int64_t x0 = std::max<int64_t>(0, region.x0 - m), y0 = std::max<int64_t>(0, region.y0 - m);
     const int64_t x1 = std::min(width, region.x1 + m), y1 = std::min(height, region.y1 + m);
     diffuse(pixels + (y0 * width + x0) * channels, width, x1 - x0, y1 - y0, channels,
-            PixelBox{region.x0 - x0, region.y0 - y0, region.x1 - x0, region.y1 - y0}, o, &scale, ws);
+            PixelBox{region.x0 - x0, region.y0 - y0, region.x1 - x0, region.y1 - y0}, o, scale, ws);
 }
 
 }  // namespace statfilter

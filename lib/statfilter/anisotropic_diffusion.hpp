@@ -30,11 +30,12 @@ struct DiffusionOptions {
 
 DiffusionFlux parse_diffusion_flux(const std::string& name);
 
-// The buffers one diffusion works in (the values and the next step; the log image while K is
-// measured, then two of its rows; a row of east and two of south conductances; all in double), kept
-// between calls by a caller that diffuses frame after frame: at 1080p they are 0.1-0.17 GB a frame,
-// which the system would otherwise map and zero afresh for every frame. Every element is written
-// before it is read, so a reused workspace gives the same bits as a new one.
+// The buffers one diffusion works in (the values and the next step, in which K is measured first;
+// two rows of the log image; the gradient spread's sample, then a row of east conductances; two rows
+// of south ones; all in double), kept between calls by a caller that diffuses frame after frame: at
+// 1080p they are 0.12 GB a frame, which the system would otherwise map and zero afresh for every
+// frame. Every element is written before it is read, so a reused workspace gives the same bits as a
+// new one.
 struct DiffusionWorkspace {
     std::vector<double> u, next, edges, east, south;
 };
@@ -66,9 +67,9 @@ void diffuse_region(float* pixels, int64_t width, int64_t height, int64_t channe
                     const DiffusionOptions& options);
 void diffuse_region(float* pixels, int64_t width, int64_t height, int64_t channels, const PixelBox& region,
                     const DiffusionOptions& options, DiffusionWorkspace& workspace);
-// The bytes diffuse_frame holds besides the frame itself, at most (the log domain with conserve):
-// the frame, the next step and the log values in double, and the gradient spread's sample (a double
-// a pixel); counted with a second double a pixel, as when the conductances were whole images, so
+// The bytes diffuse_frame holds besides the frame itself, at most: the frame and the next step in
+// double and the gradient spread's sample (a double a pixel). Counted as three images and two doubles
+// a pixel, as when the log image and the conductances were whole images: an upper bound kept so that
 // budgets, and the bands they choose, stay as they were.
 double diffusion_working_bytes(int64_t pixels, int64_t channels);
 
