@@ -9,6 +9,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "pipeline/parallel.hpp"
+#include "statfilter/box_mean.hpp"
 
 #include "filters/low_rank_reconstruction.hpp"
 #include "statfilter/error.hpp"
@@ -94,8 +95,7 @@ std::shared_ptr<Sequence> GlobalMotionMap::alpha() {
     // Pooled over a window, as in the error threshold method: one pixel's component energy at low
     // sample counts is mostly noise, a moving object covers many pixels.
     const auto pool = [&](std::vector<double>& v) {
-        cv::Mat m(static_cast<int>(height_), static_cast<int>(width_), CV_64F, v.data());
-        if (o_.window > 1) cv::boxFilter(m, m, -1, cv::Size(o_.window, o_.window), cv::Point(-1, -1), true, cv::BORDER_REFLECT);
+        box_mean(v.data(), height_, width_, o_.window, resolve_threads(0));
     };
     pool(energy_);
     if (local_) pool(tail_);
@@ -159,7 +159,7 @@ std::shared_ptr<Sequence> local_motion_from_zscores(const Sequence& input, const
     const double threshold2 = o.z_threshold * o.z_threshold;
     for (int64_t f = 0; f < s.frames; ++f) {
         cv::Mat& m = z2[f];
-        if (o.window > 1) cv::boxFilter(m, m, -1, cv::Size(o.window, o.window), cv::Point(-1, -1), true, cv::BORDER_REFLECT);
+        box_mean(m.ptr<float>(), m.rows, m.cols, o.window, resolve_threads(0));
         cv::Mat mask = m > threshold2;  // 255 where moving
         mask.convertTo(m, CV_32F, 1.0 / 255.0);
         dilate_plane(m, o.dilate);

@@ -13,6 +13,7 @@
 #include "pipeline/band_view.hpp"
 #include "pipeline/memory_budget.hpp"
 #include "pipeline/parallel.hpp"
+#include "statfilter/box_mean.hpp"
 #include "statfilter/error.hpp"
 
 namespace statfilter {
@@ -38,15 +39,16 @@ struct GroupModel {
     cv::Mat tail;
 };
 
-void pool(cv::Mat& plane, int window) {
-    if (window > 1) cv::boxFilter(plane, plane, -1, cv::Size(window, window), cv::Point(-1, -1), true, cv::BORDER_REFLECT);
+// The same mean whatever the threads or the band around the rows (statfilter/box_mean.hpp).
+void pool(cv::Mat& plane, int window, int threads) {
+    box_mean(plane.ptr<double>(), plane.rows, plane.cols, window, threads);
 }
 
 // Error threshold: per-pixel ranks from the pooled coefficient energies (the study's Delta(error)
 // test against the local noise energy, estimated from the components beyond max_rank).
-void choose_pixel_ranks(GroupModel& m, const LowRankOptions& o, const Shape& s) {
-    for (auto& plane : m.planes) pool(plane, o.window);
-    pool(m.tail, o.window);
+void choose_pixel_ranks(GroupModel& m, const LowRankOptions& o, const Shape& s, int threads) {
+    for (auto& plane : m.planes) pool(plane, o.window, threads);
+    pool(m.tail, o.window, threads);
     const int64_t useful = max_useful_rank(m.basis.series, m.basis.frames);
     const int64_t tail_components = useful - m.stored;
     // Without a tail (max_rank leaves none, few frames) the global noise estimate stands in.
@@ -333,7 +335,7 @@ void LowRankStage::reconstruct(const FrameSource& source, LowRankStatistics stat
     stats.spare_tile.reset();
     if (options_.per_pixel)
         for (GroupModel& m : models) {
-            choose_pixel_ranks(m, options_, s);
+            choose_pixel_ranks(m, options_, s, ctx.threads);
             m.planes.clear();
             m.tail.release();
         }
