@@ -4,6 +4,7 @@
 
 #include "api_guard.hpp"
 #include "options.hpp"
+#include "statfilter/false_colour.hpp"
 #include "statfilter/metrics.hpp"
 
 using namespace statfilter;
@@ -143,6 +144,13 @@ sf_status sf_sequence_compare(sf_sequence test, sf_sequence reference, sf_compar
         const Comparison c = compare_sequences(require_sequence(test, "test"), require_sequence(reference, "reference"));
         write_versioned(dst, sf_comparison{0, c.rel_mse, c.rel_mse_moving, c.rel_mse_static, c.moving_fraction,
                                            c.psnr, c.flicker, c.jitter});
+    });
+}
+
+sf_status sf_sequence_false_colour(sf_sequence image, sf_sequence* preview) {
+    return guarded([&] {
+        require(preview, "preview") = nullptr;
+        *preview = new sf_sequence_s{false_colour_preview(require_sequence(image, "image"))};
     });
 }
 

@@ -1,8 +1,8 @@
 #include "statfilter/degree_preview.hpp"
 
-#include <algorithm>
 
 #include "statfilter/error.hpp"
+#include "statfilter/false_colour.hpp"
 
 namespace statfilter {
 
@@ -18,14 +18,9 @@ std::unique_ptr<Sequence> degree_preview(const Sequence& degree_map, int64_t deg
     for (int64_t y = 0; y < s.height; ++y)
         for (int64_t x = 0; x < s.width; ++x) {
             const float d = degree_map.at(0, y, x, 0);
-            float r = 0.9f, g = 0.1f, b = 0.1f;  // no degree explains it (or not a number)
-            if (d <= static_cast<float>(degree)) {
-                const float t = degree > 0 ? std::clamp(d / static_cast<float>(degree), 0.0f, 1.0f) : 0.0f;
-                r = std::clamp(1.8f * t - 0.5f, 0.0f, 1.0f);
-                g = std::clamp(0.15f + 0.85f * t, 0.0f, 1.0f);
-                b = std::clamp(0.55f - 0.5f * t, 0.0f, 1.0f);
-            }
-            rgb->at(0, y, x, 0) = r, rgb->at(0, y, x, 1) = g, rgb->at(0, y, x, 2) = b;
+            float colour[3] = {0.9f, 0.1f, 0.1f};  // no degree explains it (or not a number)
+            if (d <= static_cast<float>(degree)) false_colour(degree > 0 ? d / static_cast<float>(degree) : 0.0f, colour);
+            for (int64_t c = 0; c < 3; ++c) rgb->at(0, y, x, c) = colour[c];
         }
     return rgb;
 }

@@ -1,7 +1,7 @@
 #include "cli_images.hpp"
 
 #include <algorithm>
-#include <cmath>
+#include <cctype>
 
 namespace statfilter_cli {
 namespace {
@@ -9,14 +9,6 @@ namespace {
 bool ends_with(const std::string& s, const std::string& tail) {
     return s.size() >= tail.size() && std::equal(tail.rbegin(), tail.rend(), s.rbegin(),
                                                  [](char a, char b) { return std::tolower(a) == b; });
-}
-
-// A perceptual-ish ramp: dark blue (0) -> teal -> yellow (1); values are clamped to [0, 1].
-void false_colour(float v, float* rgb) {
-    const float t = std::clamp(std::isfinite(v) ? v : 0.0f, 0.0f, 1.0f);
-    rgb[0] = std::clamp(1.8f * t - 0.5f, 0.0f, 1.0f);
-    rgb[1] = std::clamp(0.15f + 0.85f * t, 0.0f, 1.0f);
-    rgb[2] = std::clamp(0.55f - 0.5f * t, 0.0f, 1.0f);
 }
 
 }  // namespace
@@ -34,28 +26,9 @@ void save_image_result(const FilterHandle& filter, const std::string& name, cons
         check(sf_sequence_write(image.get(), pattern.c_str(), &o));
         return;
     }
-    // A preview: the first channel through the false-colour ramp, as 8-bit RGB.
-    const sf_shape s = image.shape();
+    // A preview: the first channel through the library's false-colour ramp, as 8-bit RGB.
     SequenceHandle rgb;
-    check(sf_sequence_create(sf_shape{s.frames, s.height, s.width, 3}, rgb.out()));
-    float *src = nullptr, *dst = nullptr;
-    sf_strides ss{}, ds{};
-    check(sf_sequence_data(image.get(), &src, &ss));
-    check(sf_sequence_data(rgb.get(), &dst, &ds));
-    for (int64_t f = 0; f < s.frames; ++f)
-        for (int64_t y = 0; y < s.height; ++y)
-            for (int64_t x = 0; x < s.width; ++x) {
-                const char* in = reinterpret_cast<const char*>(src) + f * ss.frame + y * ss.row + x * ss.pixel;
-                char* out = reinterpret_cast<char*>(dst) + f * ds.frame + y * ds.row + x * ds.pixel;
-                false_colour(*reinterpret_cast<const float*>(in), reinterpret_cast<float*>(out));
-            }
-    for (int64_t i = 0; i < s.frames; ++i) {
-        int64_t number = 0;
-        check(sf_sequence_frame_number(image.get(), i, &number));
-        check(sf_sequence_set_frame_number(rgb.get(), i, number));
-    }
-    const char* names[] = {"R", "G", "B"};
-    for (int c = 0; c < 3; ++c) check(sf_sequence_set_channel_name(rgb.get(), c, names[c]));
+    check(sf_sequence_false_colour(image.get(), rgb.out()));
     check(sf_sequence_write(rgb.get(), pattern.c_str(), &o));
 }
 

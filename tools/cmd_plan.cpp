@@ -3,9 +3,11 @@
 #include <algorithm>
 #include <cstdio>
 #include <string>
+#include <vector>
 #include <cstdlib>
 
 #include "cli_common.hpp"
+#include "cli_images.hpp"
 #include "cli_run_setup.hpp"
 #include "commands.hpp"
 
@@ -50,6 +52,8 @@ int plan_detect(int argc, char** argv) {
                     "  -o PLAN, --output-file PLAN   the plan file to write\n"
                     "  --tiles N               bands of rows (or --tile-rows R rows each; default 256 rows)\n"
                     "  --work DIR              where tasks exchange files, on shared storage (default PLAN.work)\n"
+                    "  --save NAME=PATH[,...]  image results, as denoise writes them: rank_map (error-threshold),\n"
+                    "                          alpha (balanced, hybrid), or any of a one-task plan's (PNG: false colour)\n"
                     "  --memory SIZE, --threads N   each task's (default: half of its node's memory, every core)\n"
                     "  detect parameters       as 'statfilter detect --help' lists them (--degree, --threshold, ...)\n"
                     "\n%s", kInputHelp);
@@ -116,15 +120,13 @@ int cmd_plan(int argc, char** argv) {
                     "                          default 256 rows)\n"
                     "  --frames-per-task N     frames per assembly, window or per-frame task (default 8)\n"
                     "  --work DIR              where tasks exchange files, on shared storage (default PLAN.work)\n"
+                    "  --save NAME=PATH[,...]  image results, as denoise writes them: rank_map (error-threshold),\n"
+                    "                          alpha (balanced, hybrid), or any of a one-task plan's (PNG: false colour)\n"
                     "  --memory SIZE, --threads N   each task's (default: half of its node's memory, every core)\n"
                     "\n%s\n%s", kInputHelp, kOutputHelp);
         return 0;
     }
     if (args.positionals().size() != 2) throw UsageError("expected IN and OUT patterns (see --help)");
-    // Known to denoise, so named here rather than as an unknown option.
-    if (args.has("save"))
-        throw UsageError("--save: a plan's tasks write the frames, not image results (alpha, rank_map); "
-                         "run 'statfilter denoise IN OUT --save ...' for those");
     if (!args.has("output-file")) throw UsageError("give the plan file to write: -o PLAN");
     if (args.has("tiles") && args.has("tile-rows")) throw UsageError("give --tiles or --tile-rows, not both");
     const std::string in = args.positionals()[0], out = args.positionals()[1], plan = args.option("output-file");
@@ -140,6 +142,12 @@ int cmd_plan(int argc, char** argv) {
     options.work_dir = work.empty() ? nullptr : work.c_str();
     FilterHandle filter(method);
     set_filter_parameters(filter, args);
+    const auto saves = parse_save_list(args.option("save"));
+    check_save_list(filter, method, saves);
+    std::vector<sf_image_output> images;
+    for (const auto& [name, path] : saves) images.push_back({name.c_str(), path.c_str()});
+    options.images = images.data();
+    options.image_count = static_cast<int64_t>(images.size());
     IoSettings io(args);
     filter.check(sf_plan_write(filter.get(), in.c_str(), &io.read, out.c_str(), &io.write, &run, &options, plan.c_str()));
     int64_t count = 0;

@@ -18,6 +18,7 @@ namespace {
 
 namespace fs = std::filesystem;
 constexpr char kMagic[8] = {'S', 'F', 'S', 'T', 'A', 'T', 'S', '1'};
+constexpr char kRowsMagic[8] = {'S', 'F', 'I', 'R', 'O', 'W', 'S', '1'};
 
 std::string system_error(const std::string& what, const std::string& path) {
     return what + " '" + path + "': " + std::strerror(errno);
@@ -131,6 +132,38 @@ void read_file_at(const std::string& path, int64_t offset, void* data, size_t by
     ::close(fd);
 }
 
+namespace {
+
+// A whole file read at once, taken apart front to back; names the file when it is short.
+class WholeFile {
+public:
+    WholeFile(const std::string& path, const char* kind) : path_(path), kind_(kind) {
+        std::error_code ec;
+        const auto size = fs::file_size(path, ec);
+        if (ec) throw Error(Status::Io, "cannot read '" + path + "': " + ec.message() + " (has the task that writes it run?)");
+        bytes_.resize(static_cast<size_t>(size));
+        read_file_at(path, 0, bytes_.data(), bytes_.size());
+    }
+    void take(void* p, size_t n) {
+        if (at_ + n > bytes_.size()) throw Error(Status::Io, "'" + path_ + "' is truncated or not a " + kind_ + " file");
+        std::memcpy(p, bytes_.data() + at_, n);
+        at_ += n;
+    }
+    int64_t take64() {
+        int64_t v = 0;
+        take(&v, 8);
+        return v;
+    }
+    size_t left() const { return bytes_.size() - at_; }
+
+private:
+    std::string path_, kind_;
+    std::vector<char> bytes_;
+    size_t at_ = 0;
+};
+
+}  // namespace
+
 int64_t tile_statistics_bytes(const TileStatistics& s) {
     int64_t bytes = 8 + 3 * 8;
     for (const GroupStatistics& g : s.groups)
@@ -161,22 +194,9 @@ void write_tile_statistics(const std::string& path, const TileStatistics& s) {
 }
 
 TileStatistics read_tile_statistics(const std::string& path) {
-    std::error_code ec;
-    const auto size = fs::file_size(path, ec);
-    if (ec) throw Error(Status::Io, "cannot read '" + path + "': " + ec.message() + " (has the task that writes it run?)");
-    std::vector<char> in(static_cast<size_t>(size));
-    read_file_at(path, 0, in.data(), in.size());
-    size_t at = 0;
-    auto take = [&](void* p, size_t n) {
-        if (at + n > in.size()) throw Error(Status::Io, "'" + path + "' is truncated or not a statistics file");
-        std::memcpy(p, in.data() + at, n);
-        at += n;
-    };
-    auto take64 = [&] {
-        int64_t v = 0;
-        take(&v, 8);
-        return v;
-    };
+    WholeFile file(path, "statistics");
+    const auto take = [&](void* p, size_t n) { file.take(p, n); };
+    const auto take64 = [&] { return file.take64(); };
     char magic[8];
     take(magic, 8);
     if (std::memcmp(magic, kMagic, 8) != 0) throw Error(Status::Io, "'" + path + "' is not a statfilter statistics file");
@@ -203,6 +223,53 @@ TileStatistics read_tile_statistics(const std::string& path) {
         s.groups.push_back(std::move(g));
     }
     return s;
+}
+
+std::vector<char> image_rows_file(const Sequence& image, int64_t y0, int64_t y1) {
+    const Shape& s = image.shape();
+    if (!(0 <= y0 && y0 < y1 && y1 <= s.height)) throw Error(Status::Internal, "rows out of the image");
+    std::vector<char> out;
+    auto put = [&](const void* p, size_t n) { out.insert(out.end(), static_cast<const char*>(p), static_cast<const char*>(p) + n); };
+    auto put64 = [&](int64_t v) { put(&v, 8); };
+    put(kRowsMagic, 8);
+    put64(y1 - y0);
+    put64(s.width);
+    put64(s.channels);
+    for (const std::string& name : image.channel_names()) {
+        put64(static_cast<int64_t>(name.size()));
+        put(name.data(), name.size());
+    }
+    for (int64_t y = y0; y < y1; ++y)
+        for (int64_t x = 0; x < s.width; ++x)
+            for (int64_t c = 0; c < s.channels; ++c) {
+                const float v = image.at(0, y, x, c);
+                put(&v, sizeof v);
+            }
+    return out;
+}
+
+std::unique_ptr<Sequence> read_image_rows_file(const std::string& path) {
+    WholeFile file(path, "image rows");
+    char magic[8];
+    file.take(magic, 8);
+    if (std::memcmp(magic, kRowsMagic, 8) != 0) throw Error(Status::Io, "'" + path + "' is not a statfilter image rows file");
+    const int64_t rows = file.take64(), width = file.take64(), channels = file.take64();
+    if (rows <= 0 || width <= 0 || channels <= 0 || channels > (1 << 16) ||
+        static_cast<double>(rows) * static_cast<double>(width) * static_cast<double>(channels) * 4 > static_cast<double>(file.left()))
+        throw Error(Status::Io, "'" + path + "' has a bad header");
+    auto image = std::make_unique<Sequence>(Shape{1, rows, width, channels});
+    for (int64_t c = 0; c < channels; ++c) {
+        const int64_t length = file.take64();
+        if (length < 0 || static_cast<size_t>(length) > file.left()) throw Error(Status::Io, "'" + path + "' has a bad channel name");
+        std::string name(static_cast<size_t>(length), '\0');
+        file.take(name.data(), name.size());
+        image->channel_names()[static_cast<size_t>(c)] = name;
+    }
+    for (int64_t y = 0; y < rows; ++y)
+        for (int64_t x = 0; x < width; ++x)
+            for (int64_t c = 0; c < channels; ++c) file.take(&image->at(0, y, x, c), sizeof(float));
+    if (file.left() != 0) throw Error(Status::Io, "'" + path + "' is longer than its header says");
+    return image;
 }
 
 }  // namespace statfilter

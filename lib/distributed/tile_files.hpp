@@ -1,12 +1,14 @@
 // The files tile tasks exchange through shared storage: a tile's partial statistics (each channel
 // group's series count and F x F Gram), the reduction of them all (the same, plus each group's
-// basis), and a tile's rebuilt rows of every frame (float32, frame-major). All written to a temporary
+// basis), a tile's rebuilt rows of every frame (float32, frame-major), and its rows of an image result. All written to a temporary
 // beside the final name and renamed into place, so a reader never sees half a file.
 #pragma once
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
+#include "statfilter/sequence.hpp"
 #include "statfilter/temporal_basis.hpp"
 
 namespace statfilter {
@@ -61,6 +63,11 @@ public:
 private:
     std::string path_, temporary_;
 };
+
+// Rows [y0, y1) of the first frame of an image result (a rank map) as the bytes of a file: its
+// channel names, then its samples (float32, row-major); and such a file read back (one frame).
+std::vector<char> image_rows_file(const Sequence& image, int64_t y0, int64_t y1);
+std::unique_ptr<Sequence> read_image_rows_file(const std::string& path);
 
 // Writes the whole file at path atomically (an AtomicFile written once and committed).
 void write_file(const std::string& path, const void* data, size_t bytes);

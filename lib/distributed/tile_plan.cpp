@@ -15,6 +15,49 @@
 namespace statfilter {
 namespace {
 
+// The image results a plan's tasks make, by kind: the low-rank tiles their per-pixel ranks (the
+// error threshold's), a window plan's analysis its alpha, a shot task every image its filter has.
+std::vector<std::string> plan_images(const Filter& filter, const std::string& kind, const LowRankStage* low_rank) {
+    if (kind == "tiles") return low_rank->options().per_pixel ? std::vector<std::string>{"rank_map"} : std::vector<std::string>();
+    if (kind == "window") return {"alpha"};
+    if (kind == "shot") return filter.image_results();
+    return {};
+}
+
+void check_images(const Filter& filter, const std::string& kind, const LowRankStage* low_rank, const PlanRequest& request) {
+    const std::vector<std::string> made = plan_images(filter, kind, low_rank);
+    const std::vector<std::string>& declared = filter.image_results();
+    const auto list = [](const std::vector<std::string>& names) {
+        std::string out;
+        for (const std::string& n : names) out += (out.empty() ? "" : ", ") + n;
+        return out.empty() ? std::string("none") : out;
+    };
+    for (const auto& [name, path] : request.images) {
+        if (std::find(declared.begin(), declared.end(), name) == declared.end())
+            throw Error(Status::InvalidArgument, "the filter has no image result '" + name + "' (it has: " + list(declared) + ")");
+        if (std::find(made.begin(), made.end(), name) == made.end())
+            throw Error(Status::InvalidArgument, "a '" + kind + "' plan's tasks do not make the image result '" + name +
+                                                     "' (they make: " + list(made) + ")");
+    }
+    for (size_t i = 0; i < request.images.size(); ++i)
+        for (size_t j = i + 1; j < request.images.size(); ++j) {
+            if (request.images[i].first == request.images[j].first)
+                throw Error(Status::InvalidArgument, "the image result '" + request.images[i].first + "' is asked for twice");
+            if (request.images[i].second == request.images[j].second)
+                throw Error(Status::InvalidArgument, "the image results '" + request.images[i].first + "' and '" +
+                                                         request.images[j].first + "' are both written to '" +
+                                                         request.images[i].second + "'");
+        }
+}
+
+std::string images_json(const PlanRequest& request) {
+    std::string out = "[";
+    for (size_t i = 0; i < request.images.size(); ++i)
+        out += std::string(i ? ", " : "") + "{\"name\": " + json_quote(request.images[i].first) + ", \"path\": " +
+               json_quote(request.images[i].second) + "}";
+    return out + "]";
+}
+
 struct Task {
     std::string phase;
     std::string fields;  // the phase's own members, JSON
@@ -83,6 +126,8 @@ std::string make_plan(const Filter& filter, const FrameSource& source, const Pla
         }
         for (int64_t f = 0; f < s.frames; f += per_task)
             tasks.push_back({"assemble", "\"frames\": " + range_json(f, std::min(s.frames, f + per_task)), reconstruct});
+        // The rank map from every tile's rows, beside the assembly.
+        if (!request.images.empty()) tasks.push_back({"images", "\"tiles\": " + std::to_string(tiles), reconstruct});
     } else if (windowed) {
         // The passes over the shot in one task; then chunks of frames, each reading its frames and the
         // window's reach either side from the input and from the analysis.
@@ -128,6 +173,9 @@ std::string make_plan(const Filter& filter, const FrameSource& source, const Pla
                            : "the filter runs on the whole shot in memory");
         tasks.push_back({"shot", "\"frames\": " + range_json(0, s.frames), {}});
     }
+
+    check_images(filter, kind, low_rank, request);
+    if (!request.images.empty()) extra << "  \"images\": " << images_json(request) << ",\n";
 
     std::ostringstream out;
     out << "{\n  \"format\": \"statfilter-plan\",\n  \"version\": 1,\n";

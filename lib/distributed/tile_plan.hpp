@@ -4,7 +4,7 @@
 // bands of full-width rows of every frame ("tiles"): statistics tasks write each tile's partial Gram,
 // one reduction sums them in tile order and makes the basis, reconstruction tasks rebuild their rows
 // (reading the halo their stage declares) into tile files, assembly tasks write each output frame
-// once from the tiles. A stage that is an analysis and frame windows (the hybrid's, and so
+// once from the tiles (and an "images" task the rank map from the tiles' rows). A stage that is an analysis and frame windows (the hybrid's, and so
 // --quality balanced) runs its analysis in one task ("window" plans) and its frames in chunks, each
 // reading its window's reach of frames either side. Per-frame filters are cut into chunks of frames.
 // Everything else runs as one task over the whole shot. Every task writes its outputs atomically (temporary + rename), so a rerun
@@ -33,6 +33,9 @@ struct PlanRequest {
     double budget_bytes = 0;      // each task's memory (0: the default share of the node's memory)
     int threads = 0;              // each task's threads (0: every core of its node)
     std::string front_end;        // the front end's own settings (JSON object text), kept verbatim
+    // Image results to write (name, absolute path; paths checked by the front end): each by the task
+    // that makes it, or refused when the plan's tasks make none of that name.
+    std::vector<std::pair<std::string, std::string>> images;
 };
 
 // Checks the shot against the filter and writes nothing but returns the plan (JSON text). Reads the

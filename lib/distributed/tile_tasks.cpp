@@ -1,8 +1,10 @@
-// run_plan_task: one task of a plan (statistics, reduce, reconstruct, assemble, frames, shot).
+// run_plan_task: one task of a plan (statistics, reduce, reconstruct, assemble, images, frames, the
+// window plan's phases, shot).
 #include <sys/resource.h>
 
 #include <algorithm>
 #include <atomic>
+#include <cctype>
 #include <chrono>
 #include <cstdio>
 #include <functional>
@@ -24,7 +26,9 @@
 #include "pipeline/stage.hpp"
 #include "pipeline/window_source.hpp"
 #include "statfilter/error.hpp"
+#include "statfilter/false_colour.hpp"
 #include "statfilter/frame_pattern.hpp"
+#include "statfilter/sequence_io.hpp"
 
 namespace statfilter {
 namespace {
@@ -37,6 +41,7 @@ struct Work {
     std::string partial(int64_t tile) const { return dir + "/partial-" + std::to_string(tile) + ".bin"; }
     std::string reduced() const { return dir + "/reduced.bin"; }
     std::string tile(int64_t tile) const { return dir + "/tile-" + std::to_string(tile) + ".f32"; }
+    std::string rank_rows(int64_t tile) const { return dir + "/rank-" + std::to_string(tile) + ".bin"; }
     std::string report(int64_t task) const { return dir + "/task-" + std::to_string(task) + ".json"; }
     std::string analysis() const { return dir + "/analysis"; }
     std::string first_pass(int64_t chunk) const { return dir + "/first-" + std::to_string(chunk); }
@@ -64,6 +69,43 @@ LowRankStage tile_stage(const Run& run, bool gram) {
     for (const JsonValue& v : member(run.plan, "scales", "the plan").array()) options.scales.push_back(v.number());
     options.gram = gram;
     return LowRankStage(options);
+}
+
+// The image results the plan writes (name, path), from its "images" list.
+std::vector<std::pair<std::string, std::string>> asked_images(const JsonValue& plan) {
+    std::vector<std::pair<std::string, std::string>> out;
+    if (const JsonValue* images = plan.find("images"))
+        for (const JsonValue& image : images->array())
+            out.emplace_back(member(image, "name", "an image of the plan").string(), member(image, "path", "an image of the plan").string());
+    return out;
+}
+bool asks_for(const JsonValue& plan, const std::string& name) {
+    for (const auto& image : asked_images(plan))
+        if (image.first == name) return true;
+    return false;
+}
+
+// Writes each image result the plan asks for, as `statfilter denoise --save` writes it: a float
+// EXR, or the false-colour picture of a .png path. Each file goes to a temporary and is renamed into
+// place: a rerun rewrites it whole.
+void write_images(Run& run, const Results& made) {
+    WriteOptions as_float;
+    as_float.half = false;
+    for (const auto& [name, path] : asked_images(run.plan)) {
+        std::shared_ptr<const Sequence> image;
+        try {
+            image = made.image(name);
+        } catch (const Error&) {
+            throw Error(Status::NotFound, "the plan asks for the image result '" + name + "', which the filter did not make in this run");
+        }
+        std::string extension = fs::path(path).extension().string();
+        for (char& c : extension) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+        const bool png = extension == ".png";
+        write_sequence(png ? *false_colour_preview(*image) : *image, path, as_float);
+        run.outputs.push_back(path);
+        std::error_code ec;
+        run.bytes_written += static_cast<int64_t>(fs::file_size(path, ec));
+    }
 }
 
 void annotate(const Run& run, Results& results) {
@@ -146,6 +188,14 @@ void reconstruct_task(Run& run, const JsonValue& task) {
     }, run.stage, own);
     out.commit();
     run.bytes_written += static_cast<int64_t>(frame_bytes) * s.frames;
+    // The tile's rows of the rank map, for the images task (the window's halo rows left out).
+    if (asks_for(run.plan, "rank_map")) {
+        const Sequence& ranks = *own.image("rank_map");
+        const std::vector<char> file = image_rows_file(ranks, y0 - r0, y1 - r0);
+        write_file(run.work.rank_rows(tile), file.data(), file.size());
+        run.bytes_written += static_cast<int64_t>(file.size());
+        run.outputs.push_back(run.work.rank_rows(tile));
+    }
     annotate(run, run.results);
     for (const std::string& name : own.names())
         if (name != "rank_map" && name != "nonfinite_repaired" && name != "bands") run.results.copy(own, name, name);
@@ -199,6 +249,36 @@ void assemble_task(Run& run, const JsonValue& task, int64_t index) {
     sink->commit();
     sink.reset();
     publish(run, staging, *attributes);
+}
+
+// The image results from every tile's rows: the rank map, as the single run makes it.
+void images_task(Run& run, const JsonValue& task) {
+    const int64_t tiles = integer(task, "tiles", "task");
+    const Shape& s = run.context.source->shape();
+    std::shared_ptr<Sequence> map;
+    int64_t y = 0;
+    for (int64_t t = 0; t < tiles; ++t) {
+        const std::string path = run.work.rank_rows(t);
+        if (!fs::exists(path))
+            throw Error(Status::Io, "tile " + std::to_string(t) + "'s rank rows ('" + path + "') are not there: run the reconstruction tasks first");
+        const std::unique_ptr<Sequence> rows = read_image_rows_file(path);
+        const Shape& r = rows->shape();
+        if (!map) {
+            map = std::make_shared<Sequence>(Shape{1, s.height, s.width, r.channels});
+            map->channel_names() = rows->channel_names();
+        }
+        if (r.width != s.width || r.channels != map->shape().channels || y + r.height > s.height)
+            throw Error(Status::Io, "'" + path + "' does not match the plan's tile " + std::to_string(t));
+        for (int64_t i = 0; i < r.height; ++i, ++y)
+            for (int64_t x = 0; x < s.width; ++x)
+                for (int64_t c = 0; c < r.channels; ++c) map->at(0, y, x, c) = rows->at(0, i, x, c);
+        std::error_code ec;
+        run.bytes_read += static_cast<int64_t>(fs::file_size(path, ec));
+    }
+    if (y != s.height) throw Error(Status::Io, "the tiles' rank rows cover " + std::to_string(y) + " of " + std::to_string(s.height) + " rows");
+    Results made;
+    made.set_image("rank_map", map);
+    write_images(run, made);
 }
 
 RunOptions run_options(const Run& run) {
@@ -287,6 +367,7 @@ void analysis_task(Run& run) {
     stage.analyse_into(counted, dir.temporary(), phase_context(run, progress), run.results);
     run.bytes_written += dir.commit();
     run.outputs.push_back(run.work.analysis());
+    write_images(run, run.results);
 }
 
 // The first passes of frames [f0, f1): reads those frames of the input and of I_T.
@@ -376,6 +457,7 @@ void shot_task(Run& run) {
     run.context.filter->execute(counted, *sink, run_options(run));
     run.results = run.context.filter->results();
     run.outputs.push_back(run.plan.find("output")->string());
+    write_images(run, run.results);
 }
 
 }  // namespace
@@ -406,6 +488,7 @@ std::string run_plan_task(const JsonValue& plan, int64_t index, const TaskContex
     else if (phase == "reduce") reduce_task(run, task);
     else if (phase == "reconstruct") reconstruct_task(run, task);
     else if (phase == "assemble") assemble_task(run, task, index);
+    else if (phase == "images") images_task(run, task);
     else if (phase == "frames") frames_task(run, task, index);
     else if (phase == "analysis") analysis_task(run);
     else if (phase == "first_pass") first_pass_task(run, task);

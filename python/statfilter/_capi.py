@@ -207,12 +207,19 @@ class sf_merge_options(Structure):
                 ("progress_user", c_void_p)]
 
 
+class sf_image_output(Structure):
+    _fields_ = [("name", c_char_p),
+                ("path", c_char_p)]
+
+
 class sf_plan_options(Structure):
     _fields_ = [("struct_size", c_size_t),
                 ("tiles", c_int64),
                 ("tile_rows", c_int64),
                 ("frames_per_task", c_int64),
-                ("work_dir", c_char_p)]
+                ("work_dir", c_char_p),
+                ("images", POINTER(sf_image_output)),
+                ("image_count", c_int64)]
 
 
 class sf_detect_outputs(Structure):
@@ -228,7 +235,7 @@ STRUCTS = {cls.__name__: cls for cls in (sf_shape, sf_strides, sf_channel_stats,
                                          sf_write_options, sf_param_info, sf_filter_info, sf_plugin_run,
                                          sf_plugin)}
 STRUCTS.update({cls.__name__: cls for cls in (sf_crop_window, sf_merge_options, sf_run_options, sf_window,
-                                              sf_plan_options, sf_detect_outputs)})
+                                              sf_image_output, sf_plan_options, sf_detect_outputs)})
 
 # ---- functions: name -> (restype, [argtypes]) -------------------------------------------------
 
@@ -255,6 +262,7 @@ FUNCTIONS = {
     "sf_sequence_channel_stats": (sf_status, [sf_sequence, c_int64, _P(sf_channel_stats)]),
     "sf_comparison_init": (None, [_P(sf_comparison)]),
     "sf_sequence_compare": (sf_status, [sf_sequence, sf_sequence, _P(sf_comparison)]),
+    "sf_sequence_false_colour": (sf_status, [sf_sequence, _P(sf_sequence)]),
     # frame patterns
     "sf_pattern_frames": (sf_status, [c_char_p, _P(c_int64), c_size_t, _P(c_size_t)]),
     "sf_pattern_format": (sf_status, [c_char_p, c_int64, c_char_p, c_size_t, _P(c_size_t)]),

@@ -77,18 +77,28 @@ def _plan_options(memory: Union[int, str, None], threads: int, tiles: int, tile_
 def write_plan(input: str, output: str, plan_path: str, method: Optional[str] = None, tiles: int = 0,
                tile_rows: int = 0, frames_per_task: int = 0, work_dir: Optional[str] = None,
                memory: Union[int, str, None] = None, threads: int = 0, channels: Any = None, frames: Any = None,
-               pixel_type: str = "half", compression: str = "zip", **params: Any) -> Dict[str, Any]:
-    """Write the plan of tasks (as ``statfilter plan`` does) and return it (the parsed JSON)."""
+               pixel_type: str = "half", compression: str = "zip", save: Optional[Dict[str, str]] = None,
+               **params: Any) -> Dict[str, Any]:
+    """Write the plan of tasks (as ``statfilter plan`` does) and return it (the parsed JSON).
+    save: image results to write, {name: path} (``statfilter plan --save``: rank_map of
+    error-threshold, alpha of balanced and the hybrid; a .png path gets the false-colour picture)."""
     flt = Filter(_method(method, params), **params)
     run, plan, work = _plan_options(memory, threads, tiles, tile_rows, work_dir)
     plan.frames_per_task = int(frames_per_task)
+    saves = list((save or {}).items())
+    keep_names = [(_capi.encode(n), _capi.encode_path(p)) for n, p in saves]
+    images = (_capi.sf_image_output * max(1, len(saves)))()
+    for i, (name, path) in enumerate(keep_names):
+        images[i].name, images[i].path = name, path
+    plan.images = ctypes.cast(images, ctypes.POINTER(_capi.sf_image_output))
+    plan.image_count = len(saves)
     read, keep_read = _read_options(channels, frames)
     write, keep_write = _write_options(pixel_type, compression)
     status = _capi.lib.sf_plan_write(flt._live(), _capi.encode_path(input), ctypes.byref(read),
                                      _capi.encode_path(output), ctypes.byref(write), ctypes.byref(run),
                                      ctypes.byref(plan), _capi.encode_path(plan_path))
     check(status, flt._live())
-    del keep_read, keep_write, work
+    del keep_read, keep_write, work, keep_names, images
     with open(plan_path) as f:
         return json.load(f)
 
@@ -148,7 +158,7 @@ def denoise(input: str, output: str, client: Any = None, method: Optional[str] =
             tile_rows: int = 0, frames_per_task: int = 0, work_dir: Optional[str] = None,
             memory: Union[int, str, None] = None, threads: int = 1, channels: Any = None, frames: Any = None,
             pixel_type: str = "half", compression: str = "zip", retries: int = 3, progress: bool = True,
-            keep_work: bool = False, **params: Any) -> Dict[str, Any]:
+            keep_work: bool = False, save: Optional[Dict[str, str]] = None, **params: Any) -> Dict[str, Any]:
     """Denoise the EXR sequence `input` into `output` on a Dask cluster.
 
     client:    a dask.distributed Client; None = a LocalCluster of two single-threaded worker
@@ -159,6 +169,7 @@ def denoise(input: str, output: str, client: Any = None, method: Optional[str] =
                directory beside the output, removed afterwards unless keep_work).
     memory, threads: each task's budget and threads (threads=1: one task per worker thread).
     retries:   times Dask reruns a task whose worker died (tasks are idempotent).
+    save:      image results to write, {name: path}, each by the task that makes it (write_plan).
     Returns the report: the plan's kind and reason, tasks, bytes read and written, seconds per phase,
     the method's results. The output frames appear as the assembly tasks finish, each at once.
     """
@@ -175,7 +186,7 @@ def denoise(input: str, output: str, client: Any = None, method: Optional[str] =
         plan = write_plan(input, output, plan_path, method=method, tiles=tiles, tile_rows=tile_rows,
                           frames_per_task=frames_per_task, work_dir=os.path.join(plan_dir, "work"), memory=memory,
                           threads=threads, channels=channels, frames=frames, pixel_type=pixel_type,
-                          compression=compression, **params)
+                          compression=compression, save=save, **params)
     except BaseException:
         shutil.rmtree(plan_dir, ignore_errors=True)  # nothing was written but the empty plan directory
         raise
@@ -260,6 +271,7 @@ def detect(denoised: str, noisy: Optional[str], mask: Optional[str] = None, crop
     memory, threads: each task's budget and threads (threads default: 1 on a client, one task per
                worker thread; every core here).
     retries:   times Dask reruns a task whose worker died (tasks are idempotent).
+    save:      image results to write, {name: path}, each by the task that makes it (write_plan).
     Returns the report as ``denoise`` does (kind "detect"); its results are the detect filter's
     (flagged_fraction, window_count, delta, ...). Every output is that of ``statfilter detect
     DENOISED --noisy NOISY --mask MASK --crops CROPS --score ... --degree-map ... --preview ...`` with

@@ -138,8 +138,20 @@ def test_plan_checks_before_any_work(sample_noisy, tmp_path):
     proc = run("plan", sample_noisy, tmp_path / "o.####.exr", "--tiles", "2", "--tile-rows", "3", "-o", tmp_path / "p.json",
                check_rc=2)
     assert "not both" in proc.stderr
-    proc = run("plan", sample_noisy, tmp_path / "o.####.exr", "--save", "alpha=a.exr", "-o", tmp_path / "p.json", check_rc=2)
-    assert "statfilter denoise IN OUT --save" in proc.stderr and not (tmp_path / "p.json").exists()
+    # Image results the method does not have, or that the plan's tasks do not make, or written over
+    # the output: refused before the plan is written.
+    proc = run("plan", sample_noisy, tmp_path / "o.####.exr", "--method", "pca", "--save", "alpha=a.exr", "-o",
+               tmp_path / "p.json", check_rc=2)
+    assert "method pca has no image result 'alpha'" in proc.stderr and not (tmp_path / "p.json").exists()
+    proc = run("plan", sample_noisy, tmp_path / "o.####.exr", "--quality", "fast", "--save", "alpha=a.exr", "-o",
+               tmp_path / "p.json", check_rc=1)
+    assert "a 'tiles' plan's tasks do not make the image result 'alpha'" in proc.stderr
+    proc = run("plan", sample_noisy, tmp_path / "o.####.exr", "--method", "error-threshold", "--save",
+               f"rank_map={tmp_path / 'r.exr'},rank_map={tmp_path / 'r.png'}", "-o", tmp_path / "p.json", check_rc=1)
+    assert "'rank_map' is asked for twice" in proc.stderr
+    proc = run("plan", sample_noisy, tmp_path / "o.####.exr", "--save", f"alpha={tmp_path / 'o.####.exr'}", "-o",
+               tmp_path / "p.json", check_rc=1)
+    assert "would be written to the plan's output" in proc.stderr and not (tmp_path / "p.json").exists()
     run("plan", sample_noisy, tmp_path / "o.####.exr", "--method", "pca", "-o", tmp_path / "p.json", "--quiet")
     proc = run("task", tmp_path / "p.json", 99, check_rc=1)
     assert "task 99 is not in the plan" in proc.stderr
@@ -150,6 +162,46 @@ def test_plan_checks_before_any_work(sample_noisy, tmp_path):
     proc = run("task", tmp_path / "p.json", phase["assemble"], check_rc=1)
     assert "run the reconstruction tasks before the assembly" in proc.stderr
     assert not list(tmp_path.glob("o.*.exr")) and not [p for p in tmp_path.iterdir() if p.name.startswith(".")]
+
+
+# (options, how the plan cuts the shot, the image results, the phase that writes them)
+IMAGE_CASES = [
+    (["--method", "error-threshold", "--firefly-z", "0"], ["--tile-rows", "16"], ["rank_map"], "images"),
+    (["--method", "error-threshold"], ["--tiles", "1"], ["rank_map"], "images"),
+    (["--quality", "balanced"], ["--frames-per-task", "8"], ["alpha"], "analysis"),
+    (["--method", "motion"], [], ["alpha", "beta"], "shot"),
+]
+
+
+@pytest.mark.parametrize("options,cut,names,phase", IMAGE_CASES, ids=[" ".join(c[0] + c[1]) for c in IMAGE_CASES])
+def test_plan_writes_image_results_as_denoise_does(sample_noisy, tmp_path, options, cut, names, phase):
+    # Each result as EXRs and as pictures from one denoise (a frame token: beta has a frame per frame).
+    single_saves = ",".join(f"{n}={tmp_path / 'single' / n}.####.exr,{n}={tmp_path / 'single' / n}_view.####.png"
+                            for n in names)
+    run("denoise", sample_noisy, tmp_path / "single" / "o.####.exr", *options, "--save", single_saves, "--quiet")
+    plan = tmp_path / "plan.json"
+    farm_saves = ",".join(f"{n}={tmp_path / 'farm' / n}.####.exr" for n in names)
+    run("plan", sample_noisy, tmp_path / "farm" / "o.####.exr", *options, *cut, "--save", farm_saves, "-o", plan, "--quiet")
+    tasks = json.loads(plan.read_text())
+    assert [i["name"] for i in tasks["images"]] == names
+    shell_run(plan)
+    for n in names:
+        single = sorted(p.name for p in (tmp_path / "single").glob(f"{n}.*.exr"))
+        assert single and sorted(p.name for p in (tmp_path / "farm").glob(f"{n}.*.exr")) == single
+        for name in single:
+            assert _mask_bytes(tmp_path / "farm" / name) == _mask_bytes(tmp_path / "single" / name), name
+    reports = [json.loads((tmp_path / "plan.json.work" / f"task-{t['index']}.json").read_text()) for t in tasks["tasks"]]
+    writers = [t["phase"] for t, r in zip(tasks["tasks"], reports)
+               if any(f"/{n}." in o for o in r["outputs"] for n in names)]
+    assert writers == [phase]
+    # The first result as pictures, from a second plan.
+    pictures = tmp_path / "farm2" / f"{names[0]}_view.####.png"
+    run("plan", sample_noisy, tmp_path / "farm2" / "o.####.exr", *options, *cut, "--save", f"{names[0]}={pictures}", "-o",
+        tmp_path / "plan2.json", "--quiet")
+    shell_run(tmp_path / "plan2.json")
+    single = sorted((tmp_path / "single").glob(f"{names[0]}_view.*.png"))
+    assert single and [p.read_bytes() for p in single] == [
+        (tmp_path / "farm2" / p.name).read_bytes() for p in single]
 
 
 def test_farm_submission_scripts_lay_the_phases_out(sample_noisy, tmp_path):

@@ -782,3 +782,34 @@ TEST(CapiErrors, LastErrorIsThreadLocalAndClearedBySuccess) {
     Filt filter(f);
     EXPECT_STREQ(sf_last_error(), "");
 }
+
+// The false-colour picture of an image result: the first channel of each frame, clamped to [0, 1]
+// through the ramp (0 dark blue, 1 yellow), a NaN as 0; frame numbers kept, channels R, G, B.
+TEST(CapiFalseColour, KnownColoursFrameNumbersAndChannels) {
+    Seq image = filled_sequence(shape_of(2, 1, 4, 2), [](int64_t f, int64_t, int64_t x, int64_t c) {
+        const float first[] = {0.0f, 1.0f, std::nanf(""), 0.5f};
+        return c == 1 ? 99.0f : (f == 0 ? first[x] : -3.0f);  // the second channel is not looked at
+    });
+    ASSERT_SF_OK(sf_sequence_set_frame_number(image.get(), 0, 7));
+    ASSERT_SF_OK(sf_sequence_set_frame_number(image.get(), 1, 9));
+    sf_sequence out = nullptr;
+    ASSERT_SF_OK(sf_sequence_false_colour(image.get(), &out));
+    Seq rgb(out);
+    sf_shape s{};
+    ASSERT_SF_OK(sf_sequence_shape(rgb.get(), &s));
+    EXPECT_EQ(s.frames, 2);
+    EXPECT_EQ(s.width, 4);
+    EXPECT_EQ(s.channels, 3);
+    const std::vector<float> v = samples_of(rgb.get());
+    const std::vector<float> blue = {0.0f, 0.15f, 0.55f}, yellow = {1.0f, 1.0f, 0.05f}, middle = {0.4f, 0.575f, 0.3f};
+    const std::vector<std::vector<float>> expected = {blue, yellow, blue, middle, blue, blue, blue, blue};
+    for (size_t p = 0; p < expected.size(); ++p)
+        for (size_t c = 0; c < 3; ++c) EXPECT_NEAR(v[p * 3 + c], expected[p][c], 1e-6) << p << " " << c;
+    int64_t number = 0;
+    ASSERT_SF_OK(sf_sequence_frame_number(rgb.get(), 1, &number));
+    EXPECT_EQ(number, 9);
+    const char* name = nullptr;
+    ASSERT_SF_OK(sf_sequence_channel_name(rgb.get(), 2, &name));
+    EXPECT_STREQ(name, "B");
+    EXPECT_EQ(sf_sequence_false_colour(nullptr, &out), SF_ERROR_INVALID_ARGUMENT);
+}

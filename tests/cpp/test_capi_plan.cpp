@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
 #include <fstream>
 #include <random>
 #include <regex>
@@ -167,6 +168,81 @@ TEST(Plan, BadArgumentsAreRefusedBeforeAnythingIsWritten) {
     write_text_file(dir.file("not-a-plan.json"), "{\"tasks\": []}");
     expect_failure(sf_plan_task_count(dir.file("not-a-plan.json").c_str(), &count), SF_ERROR_INVALID_ARGUMENT,
                    {"not a statfilter plan"});
+}
+
+// plan->images: error-threshold's rank map written by the plan's images task from the bands' rows,
+// the values sf_filter_run's result holds; a caller built before the field (a smaller struct_size)
+// still gets its plan; bad image lists are refused before the plan is written.
+TEST(Plan, ImageResultsAreTheSingleRunsAndBadOnesAreRefused) {
+    TempDir dir;
+    const std::string in = write_shot(dir);
+    const auto error_threshold = [] {
+        sf_filter f = nullptr;
+        EXPECT_SF_OK(sf_filter_create("error-threshold", &f));
+        EXPECT_SF_OK(sf_filter_set_string(f, "firefly_z", "0"));
+        EXPECT_SF_OK(sf_filter_set_string(f, "window", "3"));
+        return Filt(f);
+    };
+    Filt single = error_threshold();
+    const sf_write_options wo = write_options(SF_PIXEL_FLOAT);
+    ASSERT_SF_OK(sf_filter_run(single.get(), in.c_str(), nullptr, dir.file("single.####.exr").c_str(), &wo, nullptr));
+    sf_sequence ranks = nullptr;
+    ASSERT_SF_OK(sf_filter_result_sequence(single.get(), "rank_map", &ranks));
+    Seq single_ranks(ranks);
+
+    Filt filter = error_threshold();
+    const std::string out = dir.file("out.####.exr"), plan = dir.file("plan.json"), path = dir.file("maps/ranks.exr");
+    sf_image_output images[] = {{"rank_map", path.c_str()}};
+    sf_plan_options po;
+    sf_plan_options_init(&po);
+    po.tile_rows = 5;  // bands of 5, 5 and 2 rows; the pooling window reaches 1 row into the next
+    po.images = images;
+    po.image_count = 1;
+    ASSERT_SF_OK(sf_plan_write(filter.get(), in.c_str(), nullptr, out.c_str(), &wo, nullptr, &po, plan.c_str()));
+    EXPECT_FALSE(fs::exists(path));
+    const std::vector<PlanTask> tasks = plan_tasks(read_text(plan));
+    ASSERT_FALSE(tasks.empty());
+    EXPECT_EQ(tasks.back().phase, "images");
+    EXPECT_EQ(tasks.back().after, "4, 5, 6");  // the reconstructions
+    for (const PlanTask& t : tasks) ASSERT_SF_OK(sf_plan_run_task(plan.c_str(), t.index, nullptr));
+    EXPECT_EQ(samples_of(read_sequence(path).get()), samples_of(single_ranks.get()));
+    EXPECT_EQ(samples_of(read_sequence(out).get()), samples_of(read_sequence(dir.file("single.####.exr")).get()));
+
+    // A caller built before the image fields: its struct ends at work_dir.
+    sf_plan_options older;
+    sf_plan_options_init(&older);
+    older.struct_size = offsetof(sf_plan_options, images);
+    older.images = images;  // past its struct_size: not read
+    older.image_count = 1;
+    ASSERT_SF_OK(sf_plan_write(filter.get(), in.c_str(), nullptr, dir.file("older.####.exr").c_str(), &wo, nullptr,
+                               &older, dir.file("older.json").c_str()));
+    EXPECT_EQ(read_text(dir.file("older.json")).find("\"images\""), std::string::npos);
+
+    const std::string bad_plan = dir.file("bad.json");
+    const auto refused = [&](const sf_plan_options& o, const std::vector<std::string>& words) {
+        expect_failure(sf_plan_write(filter.get(), in.c_str(), nullptr, out.c_str(), &wo, nullptr, &o, bad_plan.c_str()),
+                       SF_ERROR_INVALID_ARGUMENT, words);
+        EXPECT_FALSE(fs::exists(bad_plan));
+    };
+    sf_plan_options o = po;
+    o.image_count = -1;
+    refused(o, {"image_count"});
+    o.image_count = 1;
+    o.images = nullptr;
+    refused(o, {"NULL"});
+    sf_image_output alpha[] = {{"alpha", path.c_str()}};
+    o.images = alpha;
+    refused(o, {"no image result 'alpha'", "rank_map"});
+    sf_image_output onto_output[] = {{"rank_map", out.c_str()}};
+    o.images = onto_output;
+    refused(o, {"the plan's output"});
+    sf_image_output twice[] = {{"rank_map", path.c_str()}, {"rank_map", dir.file("other.exr").c_str()}};
+    o.images = twice;
+    o.image_count = 2;
+    refused(o, {"asked for twice"});
+    Filt pca = pca_filter();  // no rank map
+    expect_failure(sf_plan_write(pca.get(), in.c_str(), nullptr, out.c_str(), &wo, nullptr, &po, bad_plan.c_str()),
+                   SF_ERROR_INVALID_ARGUMENT, {"no image result 'rank_map'"});
 }
 
 TEST(DetectPlan, TasksAndDependenciesThenTheSingleRunMaskAndCrops) {

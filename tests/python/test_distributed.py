@@ -47,7 +47,23 @@ def test_plans_say_what_is_tiled(shared_data, tmp_path):
     assert kinds == {"pca": "tiles", "fast": "tiles", "copy": "frames", "balanced": "window"}
 
 
-try:  # the Dask tests need the extra; the two above run without it
+def test_a_plan_writes_the_rank_map_the_single_run_makes(shared_data, tmp_path):
+    src = scene(shared_data)
+    results = statfilter.Filter("error-threshold", firefly_z=0).run_files(src, str(tmp_path / "single" / "o.####.exr"))
+    ranks = tmp_path / "farm" / "ranks.exr"
+    plan_path = str(tmp_path / "plan.json")
+    plan = sd.write_plan(src, str(tmp_path / "farm" / "o.####.exr"), plan_path, method="error-threshold", firefly_z=0,
+                         tile_rows=40, save={"rank_map": str(ranks)})
+    assert plan["images"] == [{"name": "rank_map", "path": str(ranks)}] and plan["tasks"][-1]["phase"] == "images"
+    for task in plan["tasks"]:
+        sd.run_task(plan_path, task["index"])
+    assert np.array_equal(frames(ranks), np.asarray(results["rank_map"]).reshape(frames(ranks).shape))
+    with pytest.raises(statfilter.InvalidArgumentError, match="has no image result 'alpha'"):
+        sd.write_plan(src, str(tmp_path / "x" / "o.####.exr"), str(tmp_path / "x.json"), method="pca",
+                      save={"alpha": str(tmp_path / "a.exr")})
+
+
+try:  # the Dask tests need the extra; the tests above run without it
     import distributed as dask_distributed
 except ImportError:
     dask_distributed = None

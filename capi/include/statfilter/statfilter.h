@@ -124,6 +124,13 @@ typedef struct sf_comparison {
 SF_API void sf_comparison_init(sf_comparison* comparison);
 SF_API sf_status sf_sequence_compare(sf_sequence test, sf_sequence reference, sf_comparison* out);
 
+/* An image result as a picture: each frame's first channel, clamped to [0, 1] (not a number: 0),
+ * through one ramp, dark blue (0) through teal to yellow (1). *preview receives a new sequence of
+ * the same frames with channels R, G, B, for sf_sequence_write (a PNG path converts it to 8 bits);
+ * release it with sf_sequence_release. What `statfilter denoise --save NAME=x.png` and a plan's
+ * image outputs write. */
+SF_API sf_status sf_sequence_false_colour(sf_sequence image, sf_sequence* preview);
+
 /* ---- frame patterns and files ------------------------------------------------------------- */
 
 /* Frame numbers found on disk for a pattern (name.####.exr, name.%04d.exr, name.#.exr,
@@ -307,6 +314,13 @@ SF_API sf_status sf_filter_run(sf_filter filter, const char* input_pattern, cons
 
 /* ---- a run as tasks for a distributed engine or a render farm ----------------------------- */
 
+/* An image result of a filter (sf_filter_image_result_name) and the file to write it to. */
+typedef struct sf_image_output {
+    const char* name;  /* e.g. "rank_map", "alpha" */
+    const char* path;  /* a float EXR; a path ending in .png gets the false-colour picture of its
+                          first channel (sf_sequence_false_colour) */
+} sf_image_output;
+
 typedef struct sf_plan_options {
     size_t struct_size;        /* sizeof(sf_plan_options), set by sf_plan_options_init */
     int64_t tiles;             /* bands of full-width rows to cut the shot into; 0 = from tile_rows */
@@ -314,6 +328,9 @@ typedef struct sf_plan_options {
     int64_t frames_per_task;   /* frames per assembly or per-frame task; 0 = 8 */
     const char* work_dir;      /* where the tasks exchange files (shared storage); NULL/"" =
                                   "<plan_path>.work" */
+    /* fields are only ever added at the end: a caller built before them leaves them unread */
+    const sf_image_output* images;  /* image results to write, image_count of them (sf_plan_write) */
+    int64_t image_count;
 } sf_plan_options;
 
 SF_API void sf_plan_options_init(sf_plan_options* options);
@@ -329,7 +346,14 @@ SF_API void sf_plan_options_init(sf_plan_options* options);
  * must run "after". run->memory and run->threads are each task's defaults. Checked before the plan is
  * written, as sf_filter_run checks before work: the filter, every input frame's header, the output
  * (pattern, compression, directory), and that a band task fits the memory; a plan cannot overwrite
- * its input (run->overwrite is refused: tasks read the input while others write). */
+ * its input (run->overwrite is refused: tasks read the input while others write).
+ * plan->images: image results written as sf_filter_result_sequence + sf_sequence_write (float)
+ * write them after sf_filter_run, bit-identical, each once by the task that makes it: error-threshold's
+ * "rank_map" by an "images" task after the reconstructions (from each band's rows), the "alpha" of
+ * --quality balanced and the hybrid by the analysis task, any image result of a "shot" task by that
+ * task. Refused before the plan is written: a name the filter does not have, one the plan's tasks do
+ * not make (alpha of a tiled pca run, any image of a per-frame plan), a path that is an input, the
+ * output or another image's, or that cannot be written (format, directory). */
 SF_API sf_status sf_plan_write(sf_filter filter, const char* input_pattern, const sf_read_options* read,
                                const char* output_pattern, const sf_write_options* write, const sf_run_options* run,
                                const sf_plan_options* plan, const char* plan_path);
