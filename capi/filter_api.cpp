@@ -191,6 +191,18 @@ sf_status sf_filter_image_result_name(sf_filter filter, int index, const char** 
     });
 }
 
+sf_status sf_filter_check_image_output(sf_filter filter, const char* name, const char* pattern, int64_t shot_frames,
+                                       const char* input_pattern) {
+    return on_filter(filter, [&](sf_filter_s& f) {
+        if (shot_frames < 1) throw Error(Status::InvalidArgument, "shot_frames must be >= 1, got " + std::to_string(shot_frames));
+        OutputChecks checks;
+        checks.width = checks.height = 1;
+        checks.input_pattern = input_pattern ? input_pattern : "";
+        check_image_result_output(*f.filter, require_string(name, "name"), require_string(pattern, "pattern"), shot_frames,
+                                  checks);
+    });
+}
+
 sf_status sf_filter_execute(sf_filter filter, sf_sequence input, sf_sequence output) {
     return on_filter(filter, [&](sf_filter_s& f) {
         Sequence& in = require_sequence(input, "input");

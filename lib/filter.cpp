@@ -1,5 +1,7 @@
 #include "statfilter/filter.hpp"
 
+#include <algorithm>
+
 #include "filters/frame_stages.hpp"
 #include "pipeline/library_threads.hpp"
 #include "pipeline/parallel.hpp"
@@ -85,6 +87,27 @@ void Filter::execute(const Sequence& input, Sequence& output, const Progress& pr
     if (trust) results_.set("prefilter_trust.share", blend_toward_prefilter(*trust, *noisy, *prefiltered, *target, resolve_threads(0)));
     if (post) run_frame_stage("postfilter", stages, *filtered, output, slice(progress, 1 - post_span, post_span), results_);
     if (&input != &output) output.copy_attributes_from(input);
+}
+
+void check_image_result_output(const Filter& filter, const std::string& name, const std::string& pattern,
+                               int64_t shot_frames, const OutputChecks& checks) {
+    const std::vector<std::string>& names = filter.image_results();
+    if (std::find(names.begin(), names.end(), name) == names.end()) {
+        std::string known;
+        for (const std::string& n : names) known += (known.empty() ? "" : ", ") + n;
+        throw Error(Status::InvalidArgument, "the filter has no image result '" + name + "' (it has: " +
+                                                 (known.empty() ? std::string("none") : known) + ")");
+    }
+    const int64_t frames = filter.image_result_per_frame(name) ? std::max<int64_t>(1, shot_frames) : 1;
+    Sequence attributes(Shape{frames, 1, 1, 1});
+    for (int64_t f = 0; f < frames; ++f) attributes.frame_numbers()[static_cast<size_t>(f)] = f + 1;
+    WriteOptions as_float;
+    as_float.half = false;
+    try {
+        open_frame_sink(pattern, as_float, attributes, checks);
+    } catch (const Error& e) {
+        throw Error(e.status(), "image result '" + name + "': " + e.what());
+    }
 }
 
 }  // namespace statfilter

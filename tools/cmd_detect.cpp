@@ -118,6 +118,12 @@ int cmd_detect(int argc, char** argv) {
         read_input(args, args.option("noisy"), progress, noisy);
         filter.check(sf_filter_set_input(filter.get(), "noisy", noisy.get()));
     }
+    // Every output checked before the detection runs (frame token, format, directory).
+    for (const auto& [option, result] : {std::pair<const char*, const char*>{"mask", "mask"}, {"score", "score"},
+                                         {"degree-map", "degree_map"}, {"preview", "degree_map"}})
+        if (args.has(option))
+            filter.check(sf_filter_check_image_output(filter.get(), result, args.option(option).c_str(),
+                                                      denoised.shape().frames, in.c_str()));
     check(sf_sequence_create(denoised.shape(), output.out()));
     filter.check(sf_filter_set_progress(filter.get(), &ProgressLine::callback, &progress));
     filter.check(sf_filter_execute(filter.get(), denoised.get(), output.get()));

@@ -14,7 +14,9 @@ class DetectFilter final : public Filter {
 public:
     DetectFilter() : Filter(make_params()) {
         accept_input("noisy");
-        for (const char* image : {"mask", "score", "degree_map"}) declare_image_result(image);
+        declare_image_result("mask", ImageFrames::PerFrame);
+        declare_image_result("score", ImageFrames::PerFrame);
+        declare_image_result("degree_map");
     }
 
     static std::vector<ParamSpec> make_params() {

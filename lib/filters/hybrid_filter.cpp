@@ -45,7 +45,7 @@ public:
     HybridFilter() : Filter(make_params()) {
         for (const char* pass : {"albedo", "normal", "vectors"}) accept_input(pass);
         declare_image_result("alpha");
-        declare_image_result("beta");
+        declare_image_result("beta", ImageFrames::PerFrame);
     }
 
     static std::vector<ParamSpec> make_params() {

@@ -20,7 +20,7 @@ public:
     MotionFilter() : Filter(make_params()) {
         for (const char* pass : {"albedo", "normal"}) accept_input(pass);
         declare_image_result("alpha");
-        declare_image_result("beta");
+        declare_image_result("beta", ImageFrames::PerFrame);
     }
 
     static std::vector<ParamSpec> make_params() {

@@ -1,6 +1,7 @@
 // A filter reads one sequence and writes another of the same shape, configured by named parameters.
 #pragma once
 #include <map>
+#include <set>
 #include <memory>
 #include <string>
 
@@ -9,6 +10,7 @@
 #include "statfilter/params.hpp"
 #include "statfilter/progress.hpp"
 #include "statfilter/sequence.hpp"
+#include "statfilter/sequence_io.hpp"
 
 namespace statfilter {
 
@@ -66,12 +68,17 @@ public:
     }
 
     // The image results the filter can produce (e.g. rank_map), so a request to save one can be checked
-    // before any work.
+    // before any work; and whether one has a frame per frame of the shot (beta, mask) or is one image.
     const std::vector<std::string>& image_results() const { return image_results_; }
+    bool image_result_per_frame(const std::string& name) const { return per_frame_images_.count(name) != 0; }
 
 protected:
     void accept_input(const std::string& name) { inputs_.emplace(name, nullptr); }
-    void declare_image_result(const std::string& name) { image_results_.push_back(name); }
+    enum class ImageFrames { One, PerFrame };
+    void declare_image_result(const std::string& name, ImageFrames frames = ImageFrames::One) {
+        image_results_.push_back(name);
+        if (frames == ImageFrames::PerFrame) per_frame_images_.insert(name);
+    }
     virtual void run(const Sequence& input, Sequence& output, const Progress& progress) = 0;
     Results& mutable_results() { return results_; }
 
@@ -82,6 +89,15 @@ private:
     Results results_;
     std::map<std::string, const Sequence*> inputs_;
     std::vector<std::string> image_results_;
+    std::set<std::string> per_frame_images_;
 };
+
+// Checks, writing nothing, that image result `name` of `filter` can be written to `pattern` as a
+// float image (a .png as its false-colour picture) for a shot of `shot_frames` frames: a name the
+// filter has, a frame token when the result has a frame per frame and the shot more than one, the
+// format, the directory (created when missing), not a frame of checks.input_pattern. What the
+// front ends do with every --save before the first pixel is read.
+void check_image_result_output(const Filter& filter, const std::string& name, const std::string& pattern,
+                               int64_t shot_frames, const OutputChecks& checks);
 
 }  // namespace statfilter

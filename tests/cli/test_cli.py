@@ -157,4 +157,23 @@ def test_save_image_results_and_auto(small_sequence, tmp_path):
     assert ranks["channels"][0]["name"] == "rank" and ranks["channels"][0]["max"] <= 8
     bad = run("denoise", small_sequence / "noisy.####.exr", tmp_path / "f.####.exr", "--save", "oops", check_rc=2)
     assert "NAME=PATTERN" in bad.stderr
+    # Where a result cannot be written is found before any work too: a frame a frame (beta) without a
+    # frame token, a directory under a file, an input frame.
+    bad = run("denoise", small_sequence / "noisy.####.exr", tmp_path / "f.####.exr", "--method", "motion",
+              "--save", f"beta={tmp_path / 'beta.exr'}", check_rc=1)
+    assert "image result 'beta'" in bad.stderr and "no frame token" in bad.stderr
+    (tmp_path / "a_file").write_text("")
+    bad = run("denoise", small_sequence / "noisy.####.exr", tmp_path / "f.####.exr", "--method", "error-threshold",
+              "--save", f"rank_map={tmp_path / 'a_file' / 'r.exr'}", check_rc=1)
+    assert "image result 'rank_map'" in bad.stderr and "cannot be created" in bad.stderr
+    bad = run("denoise", small_sequence / "noisy.####.exr", tmp_path / "f.####.exr", "--method", "motion",
+              "--save", f"alpha={small_sequence / 'noisy.####.exr'}", check_rc=1)
+    assert "refusing to overwrite the input" in bad.stderr
     assert not list(tmp_path.glob("f.*.exr"))  # refused before any work
+    # The --frames selection is what counts: one frame needs no token, three do.
+    run("denoise", small_sequence / "noisy.####.exr", tmp_path / "g.####.exr", "--method", "motion", "--frames", "1-1",
+        "--save", f"beta={tmp_path / 'beta1.exr'}", "-q")
+    assert (tmp_path / "beta1.exr").exists()
+    bad = run("denoise", small_sequence / "noisy.####.exr", tmp_path / "g.####.exr", "--method", "motion", "--frames",
+              "1-2,4", "--save", f"beta={tmp_path / 'beta3.exr'}", check_rc=1)
+    assert "has 3 frames" in bad.stderr

@@ -136,3 +136,15 @@ def test_bad_input_fails_with_one_line(detected, tmp_path):
     assert "--feather" in run("merge", d / "den.####.exr", REF, tmp_path / "o.####.exr", "--crops", d / "crops.json",
                               "--feather", "two", check_rc=2).stderr
     assert "one DENOISED" in run("detect", check_rc=2).stderr
+
+
+def test_outputs_are_checked_before_the_detection_runs(detected, tmp_path):
+    d, _ = detected
+    # A mask without a frame token for 32 frames, a degree map under a file: refused at once, nothing written.
+    proc = run("detect", d / "den.####.exr", "--noisy", NOISY, "--mask", tmp_path / "m.exr", "-q", check_rc=1)
+    assert "image result 'mask'" in proc.stderr and "no frame token" in proc.stderr
+    (tmp_path / "a_file").write_text("")
+    proc = run("detect", d / "den.####.exr", "--noisy", NOISY, "--crops", tmp_path / "c.json", "--degree-map",
+               tmp_path / "a_file" / "degree.exr", "-q", check_rc=1)
+    assert "image result 'degree_map'" in proc.stderr and "cannot be created" in proc.stderr
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["a_file"]

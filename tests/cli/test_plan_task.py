@@ -152,6 +152,9 @@ def test_plan_checks_before_any_work(sample_noisy, tmp_path):
     proc = run("plan", sample_noisy, tmp_path / "o.####.exr", "--save", f"alpha={tmp_path / 'o.####.exr'}", "-o",
                tmp_path / "p.json", check_rc=1)
     assert "would be written to the plan's output" in proc.stderr and not (tmp_path / "p.json").exists()
+    proc = run("plan", sample_noisy, tmp_path / "o.####.exr", "--method", "motion", "--save", f"beta={tmp_path / 'b.exr'}",
+               "-o", tmp_path / "p.json", check_rc=1)
+    assert "image result 'beta'" in proc.stderr and "no frame token" in proc.stderr
     run("plan", sample_noisy, tmp_path / "o.####.exr", "--method", "pca", "-o", tmp_path / "p.json", "--quiet")
     proc = run("task", tmp_path / "p.json", 99, check_rc=1)
     assert "task 99 is not in the plan" in proc.stderr

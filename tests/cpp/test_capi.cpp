@@ -813,3 +813,29 @@ TEST(CapiFalseColour, KnownColoursFrameNumbersAndChannels) {
     EXPECT_STREQ(name, "B");
     EXPECT_EQ(sf_sequence_false_colour(nullptr, &out), SF_ERROR_INVALID_ARGUMENT);
 }
+
+// Where an image result will go, checked before any work: the name, a frame token for a result with
+// a frame per frame over more than one frame (one image needs none), the directory, the input.
+TEST(CapiImageOutput, CheckedBeforeAnyWorkAndNothingWritten) {
+    TempDir dir;
+    sf_filter motion = nullptr;
+    ASSERT_SF_OK(sf_filter_create("motion", &motion));
+    Filt filter(motion);
+    const std::string one = dir.file("maps/alpha.exr"), per_frame = dir.file("maps/beta.####.exr");
+    EXPECT_SF_OK(sf_filter_check_image_output(motion, "alpha", one.c_str(), 32, nullptr));  // one image: no token
+    EXPECT_SF_OK(sf_filter_check_image_output(motion, "beta", per_frame.c_str(), 32, nullptr));
+    EXPECT_SF_OK(sf_filter_check_image_output(motion, "beta", one.c_str(), 1, nullptr));  // one frame: no token
+    EXPECT_TRUE(fs::is_directory(dir.file("maps")));  // created, as for the run's output
+    EXPECT_TRUE(fs::is_empty(dir.file("maps")));      // and nothing written in it
+    EXPECT_EQ(sf_filter_check_image_output(motion, "beta", one.c_str(), 32, nullptr), SF_ERROR_INVALID_ARGUMENT);
+    EXPECT_NE(std::string(sf_filter_last_error(motion)).find("no frame token"), std::string::npos);
+    EXPECT_EQ(sf_filter_check_image_output(motion, "rank_map", one.c_str(), 32, nullptr), SF_ERROR_INVALID_ARGUMENT);
+    EXPECT_NE(std::string(sf_filter_last_error(motion)).find("it has: alpha, beta"), std::string::npos);
+    EXPECT_EQ(sf_filter_check_image_output(motion, "alpha", one.c_str(), 0, nullptr), SF_ERROR_INVALID_ARGUMENT);
+    EXPECT_NE(sf_filter_check_image_output(motion, "alpha", dir.file("in.####.exr").c_str(), 4,
+                                           dir.file("in.####.exr").c_str()),
+              SF_OK);
+    write_text_file(dir.file("a_file"), "");
+    EXPECT_NE(sf_filter_check_image_output(motion, "alpha", dir.file("a_file/alpha.exr").c_str(), 4, nullptr), SF_OK);
+    EXPECT_EQ(sf_filter_check_image_output(motion, nullptr, one.c_str(), 4, nullptr), SF_ERROR_INVALID_ARGUMENT);
+}

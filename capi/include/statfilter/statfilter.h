@@ -271,6 +271,16 @@ SF_API sf_status sf_filter_result_sequence(sf_filter filter, const char* name, s
 SF_API sf_status sf_filter_image_result_count(sf_filter filter, int* count);
 SF_API sf_status sf_filter_image_result_name(sf_filter filter, int index, const char** name);
 
+/* Checks, before any work and writing nothing, that the image result `name` can be written to
+ * `pattern` with sf_sequence_write (float; a .png path as its false-colour picture) after a run over
+ * shot_frames frames: a name the filter has, a frame token in the pattern when the result has a frame
+ * per frame of the shot (beta, detect's mask and score) and the shot has more than one, the file
+ * format, and the directory (created when missing, as sf_filter_run creates its output's); the
+ * pattern may not name a frame of input_pattern (NULL: no such check). What `statfilter denoise
+ * --save` and `statfilter detect` check before the first pixel is read. */
+SF_API sf_status sf_filter_check_image_output(sf_filter filter, const char* name, const char* pattern,
+                                              int64_t shot_frames, const char* input_pattern);
+
 SF_API sf_status sf_filter_set_progress(sf_filter filter, sf_progress_callback callback, void* user);
 
 /* Run the filter: read input, write output. The output must have the input's shape (it may
