@@ -31,11 +31,15 @@ int cmd_motion(int argc, char** argv) {
     ProgressLine progress(args.flag("quiet") || args.flag("json"));
     SequenceHandle input, output;
     read_input(args, args.positionals()[0], progress, input);
+    const std::pair<const char*, const char*> saves[] = {
+        {"alpha", "alpha"}, {"beta", "beta"}, {"alpha-preview", "alpha"}, {"beta-preview", "beta"}};
+    for (const auto& [option, result] : saves)  // where each goes, checked before the maps are made
+        if (args.has(option))
+            filter.check(sf_filter_check_image_output(filter.get(), result, args.option(option).c_str(), input.shape().frames,
+                                                      args.positionals()[0].c_str()));
     check(sf_sequence_create(input.shape(), output.out()));
     filter.check(sf_filter_set_progress(filter.get(), &ProgressLine::callback, &progress));
     filter.check(sf_filter_execute(filter.get(), input.get(), output.get()));
-    const std::pair<const char*, const char*> saves[] = {
-        {"alpha", "alpha"}, {"beta", "beta"}, {"alpha-preview", "alpha"}, {"beta-preview", "beta"}};
     for (const auto& [option, result] : saves)
         if (args.has(option)) save_image_result(filter, result, args.option(option), progress);
     progress.finish();

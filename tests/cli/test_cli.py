@@ -127,6 +127,11 @@ def test_motion_maps_and_previews(sample_noisy, tmp_path):
     alpha = json.loads(run("info", tmp_path / "alpha.exr", "--json").stdout)
     assert [c["name"] for c in alpha["channels"]] == ["alpha"]
     assert 0 <= alpha["channels"][0]["min"] and alpha["channels"][0]["max"] <= 1
+    # A frame per frame needs a frame token: refused before the maps are made, nothing written.
+    proc = run("motion", sample_noisy, "--frames", "1-8", "--alpha", tmp_path / "again" / "alpha.exr",
+               "--beta-preview", tmp_path / "again" / "beta.png", "--json", check_rc=1)
+    assert "image result 'beta'" in proc.stderr and "8 frames" in proc.stderr and not proc.stdout
+    assert not list((tmp_path / "again").iterdir())
 
 
 def test_quality_presets(small_sequence, tmp_path):
