@@ -4,6 +4,7 @@
 #include "api_guard.hpp"
 #include "options.hpp"
 #include "statfilter/filter_registry.hpp"
+#include "statfilter/frame_pattern.hpp"
 
 using namespace statfilter;
 using namespace statfilter::capi;
@@ -191,15 +192,23 @@ sf_status sf_filter_image_result_name(sf_filter filter, int index, const char** 
     });
 }
 
-sf_status sf_filter_check_image_output(sf_filter filter, const char* name, const char* pattern, int64_t shot_frames,
-                                       const char* input_pattern) {
+sf_status sf_filter_check_image_output(sf_filter filter, const char* name, const char* pattern, const char* input_pattern,
+                                       const char* frames, const char* other_pattern) {
     return on_filter(filter, [&](sf_filter_s& f) {
-        if (shot_frames < 1) throw Error(Status::InvalidArgument, "shot_frames must be >= 1, got " + std::to_string(shot_frames));
-        OutputChecks checks;
-        checks.width = checks.height = 1;
-        checks.input_pattern = input_pattern ? input_pattern : "";
-        check_image_result_output(*f.filter, require_string(name, "name"), require_string(pattern, "pattern"), shot_frames,
-                                  checks);
+        const std::string input = require_string(input_pattern, "input_pattern");
+        // The run's frame numbers: the selection, or every frame of the input on disk (none: the run
+        // says so before its work).
+        std::vector<int64_t> numbers;
+        if (frames && *frames) {
+            numbers = parse_frame_spec(frames);
+        } else {
+            try {
+                numbers = FramePattern(input).scan();
+            } catch (const Error&) {
+            }
+        }
+        check_image_result_output(*f.filter, require_string(name, "name"), require_string(pattern, "pattern"), numbers,
+                                  input, other_pattern ? other_pattern : "");
     });
 }
 

@@ -1,6 +1,9 @@
 #include "statfilter/filter.hpp"
 
 #include <algorithm>
+#include <filesystem>
+#include <map>
+#include <set>
 
 #include "filters/frame_stages.hpp"
 #include "pipeline/library_threads.hpp"
@@ -8,9 +11,13 @@
 #include "pipeline/stage.hpp"
 #include "pipeline/trusted_prefilter.hpp"
 #include "statfilter/error.hpp"
+#include "statfilter/frame_pattern.hpp"
 #include "statfilter/nonfinite.hpp"
+#include "statfilter/sequence_io.hpp"
 
 namespace statfilter {
+
+namespace fs = std::filesystem;
 
 namespace {
 
@@ -90,7 +97,8 @@ void Filter::execute(const Sequence& input, Sequence& output, const Progress& pr
 }
 
 void check_image_result_output(const Filter& filter, const std::string& name, const std::string& pattern,
-                               int64_t shot_frames, const OutputChecks& checks) {
+                               const std::vector<int64_t>& shot_frames, const std::string& input_pattern,
+                               const std::string& other_pattern) {
     const std::vector<std::string>& names = filter.image_results();
     if (std::find(names.begin(), names.end(), name) == names.end()) {
         std::string known;
@@ -98,15 +106,59 @@ void check_image_result_output(const Filter& filter, const std::string& name, co
         throw Error(Status::InvalidArgument, "the filter has no image result '" + name + "' (it has: " +
                                                  (known.empty() ? std::string("none") : known) + ")");
     }
-    const int64_t frames = filter.image_result_per_frame(name) ? std::max<int64_t>(1, shot_frames) : 1;
+    const auto refuse = [&](const std::string& why) {
+        throw Error(Status::InvalidArgument, "image result '" + name + "': " + why);
+    };
+    // The pattern, the format and the directory as the writer checks them; only "more than one frame"
+    // matters for the frame token, so two frames stand for many.
+    const int64_t count = static_cast<int64_t>(shot_frames.size());
+    const bool per_frame = filter.image_result_per_frame(name);
+    if (per_frame && count > 1 && !FramePattern(pattern).has_frame_token())
+        refuse("output pattern '" + pattern + "' has no frame token (#, @ or %0Nd) but the result has " +
+               std::to_string(count) + " frames, one per frame of the run");
+    const int64_t frames = per_frame ? std::min<int64_t>(2, std::max<int64_t>(1, count)) : 1;
     Sequence attributes(Shape{frames, 1, 1, 1});
     for (int64_t f = 0; f < frames; ++f) attributes.frame_numbers()[static_cast<size_t>(f)] = f + 1;
     WriteOptions as_float;
     as_float.half = false;
+    OutputChecks checks;
+    checks.width = checks.height = 1;
     try {
         open_frame_sink(pattern, as_float, attributes, checks);
     } catch (const Error& e) {
-        throw Error(e.status(), "image result '" + name + "': " + e.what());
+        refuse(e.what());
+    }
+    // Never over a frame of the input on disk, nor over one of other_pattern's at the run's frame
+    // numbers (its output's): the files the result would go to, by name or as the same file.
+    const auto normal = [](const std::string& p) { return fs::absolute(p).lexically_normal().string(); };
+    const FramePattern image(pattern);
+    std::set<std::string> written;
+    if (!image.has_frame_token()) written.insert(normal(pattern));
+    else
+        for (int64_t n : shot_frames) written.insert(normal(image.format(n)));
+    std::map<std::string, std::string> taken;  // a frame's file -> its sequence's pattern
+    std::vector<std::string> inputs;
+    if (!input_pattern.empty()) {
+        const FramePattern input(input_pattern);
+        std::vector<int64_t> on_disk;
+        try {
+            on_disk = input.scan();
+        } catch (const Error&) {
+        }  // none: the run says so before any work
+        for (int64_t n : on_disk) {
+            inputs.push_back(input.format(n));
+            taken.emplace(normal(inputs.back()), input_pattern);
+        }
+    }
+    if (!other_pattern.empty())
+        for (int64_t n : shot_frames) taken.emplace(normal(FramePattern(other_pattern).format(n)), other_pattern);
+    for (const std::string& file : written) {
+        const auto it = taken.find(file);
+        if (it != taken.end()) refuse("'" + file + "' is a frame of '" + it->second + "': refusing to write over it");
+        std::error_code ec;
+        if (!fs::exists(file, ec)) continue;
+        for (const std::string& in : inputs)
+            if (fs::equivalent(file, in, ec)) refuse("'" + file + "' is the input frame '" + in + "': refusing to write over it");
     }
 }
 

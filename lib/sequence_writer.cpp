@@ -219,6 +219,10 @@ public:
         check_color_conversion(options.color, shape_.channels);
         if (options.into && frames > 0) check_into(attributes, shape_, options, pattern_);
         for (int64_t f = 0; f < frames; ++f) paths_.push_back(pattern_.format(attributes.frame_numbers()[f]));
+        // A file format the library can write (by the name's extension): found now, not after the work.
+        if (!paths_.empty() && !OIIO::ImageOutput::create(paths_.front()))
+            throw Error(Status::InvalidArgument, "output '" + paths_.front() + "': no writer for its file format (" +
+                                                     fs::path(paths_.front()).extension().string() + "); use .exr, or .png for a picture");
         dir_ = fs::path(paths_.front()).parent_path();
         if (dir_.empty()) dir_ = ".";
         std::error_code ec;

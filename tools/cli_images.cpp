@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cctype>
-#include <cstdlib>
 
 namespace statfilter_cli {
 namespace {
@@ -68,32 +67,11 @@ void check_save_list(const FilterHandle& filter, const std::string& method,
     }
 }
 
-int64_t shot_frame_count(const std::string& input_pattern, const std::string& frames) {
-    int64_t count = 0;
-    size_t start = 0;
-    while (!frames.empty() && start <= frames.size()) {
-        size_t comma = frames.find(',', start);
-        if (comma == std::string::npos) comma = frames.size();
-        const std::string item = frames.substr(start, comma - start);
-        char* end = nullptr;
-        const long long a = std::strtoll(item.c_str(), &end, 10);
-        long long b = a;
-        if (end != item.c_str() && *end == '-') b = std::strtoll(end + 1, &end, 10);
-        if (item.empty() || *end != '\0' || b < a) return shot_frame_count(input_pattern, "");  // the reader says what is wrong
-        count += b - a + 1;
-        start = comma + 1;
-    }
-    if (count > 0) return count;
-    size_t on_disk = 0;
-    check(sf_pattern_frames(input_pattern.c_str(), nullptr, 0, &on_disk));
-    return static_cast<int64_t>(on_disk);
-}
-
 void check_save_outputs(const FilterHandle& filter, const std::vector<std::pair<std::string, std::string>>& list,
-                        const std::string& input_pattern, int64_t shot_frames) {
+                        const std::string& input_pattern, const std::string& frames, const std::string& output_pattern) {
     for (const auto& [name, pattern] : list)
-        filter.check(sf_filter_check_image_output(filter.get(), name.c_str(), pattern.c_str(), shot_frames,
-                                                  input_pattern.c_str()));
+        filter.check(sf_filter_check_image_output(filter.get(), name.c_str(), pattern.c_str(), input_pattern.c_str(),
+                                                  frames.c_str(), output_pattern.empty() ? nullptr : output_pattern.c_str()));
 }
 
 void save_image_results(const FilterHandle& filter, const std::vector<std::pair<std::string, std::string>>& list,

@@ -19,14 +19,11 @@ std::vector<std::pair<std::string, std::string>> parse_save_list(const std::stri
 void check_save_list(const FilterHandle& filter, const std::string& method,
                      const std::vector<std::pair<std::string, std::string>>& list);
 
-// The frames a run over the input pattern covers: the --frames selection ("1-48", "1-10,12") when
-// given, else every frame on disk.
-int64_t shot_frame_count(const std::string& input_pattern, const std::string& frames);
-
-// Checks each pattern of the list as the run will write its image result after shot_frames frames
-// (frame token, format, directory: sf_filter_check_image_output), before any work.
+// Checks each pattern of the list as the run over input_pattern's frames (--frames, "" = all) will
+// write its image result (frame token, format, directory, not a frame of the input or of
+// output_pattern: sf_filter_check_image_output), before any work.
 void check_save_outputs(const FilterHandle& filter, const std::vector<std::pair<std::string, std::string>>& list,
-                        const std::string& input_pattern, int64_t shot_frames);
+                        const std::string& input_pattern, const std::string& frames, const std::string& output_pattern);
 
 // Writes each named image result of the list.
 void save_image_results(const FilterHandle& filter, const std::vector<std::pair<std::string, std::string>>& list,

@@ -8,6 +8,7 @@
 #include <fstream>
 
 #include "cli_common.hpp"
+#include "cli_images.hpp"
 #include "cli_json.hpp"
 #include "commands.hpp"
 
@@ -118,12 +119,13 @@ int cmd_detect(int argc, char** argv) {
         read_input(args, args.option("noisy"), progress, noisy);
         filter.check(sf_filter_set_input(filter.get(), "noisy", noisy.get()));
     }
-    // Every output checked before the detection runs (frame token, format, directory).
-    for (const auto& [option, result] : {std::pair<const char*, const char*>{"mask", "mask"}, {"score", "score"},
-                                         {"degree-map", "degree_map"}, {"preview", "degree_map"}})
+    // Every output checked before the detection runs (frame token, format, directory, not an input frame).
+    const std::vector<std::pair<std::string, std::string>> outputs = {
+        {"mask", "mask"}, {"score", "score"}, {"degree-map", "degree_map"}, {"preview", "degree_map"}};
+    for (const auto& [option, result] : outputs)
         if (args.has(option))
-            filter.check(sf_filter_check_image_output(filter.get(), result, args.option(option).c_str(),
-                                                      denoised.shape().frames, in.c_str()));
+            check_save_outputs(filter, {{result, args.option(option)}}, in, args.option("frames"),
+                               args.has("noisy") ? args.option("noisy") : std::string());
     check(sf_sequence_create(denoised.shape(), output.out()));
     filter.check(sf_filter_set_progress(filter.get(), &ProgressLine::callback, &progress));
     filter.check(sf_filter_execute(filter.get(), denoised.get(), output.get()));

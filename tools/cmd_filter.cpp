@@ -64,7 +64,7 @@ int run_filter(const Args& args, const std::string& method) {
     FilterHandle filter(method);
     set_filter_parameters(filter, args);
     check_save_list(filter, method, saves);
-    if (!saves.empty()) check_save_outputs(filter, saves, in, shot_frame_count(in, args.option("frames")));
+    check_save_outputs(filter, saves, in, args.option("frames"), out);
     // --vectors PATTERN: the renderer's motion vectors (Cycles' Vector pass: X, Y, Z, W) as the
     // filter's named input "vectors", read for the same frames as the input; a filter that does not
     // use them says so here, before any work.

@@ -35,8 +35,7 @@ int cmd_motion(int argc, char** argv) {
         {"alpha", "alpha"}, {"beta", "beta"}, {"alpha-preview", "alpha"}, {"beta-preview", "beta"}};
     for (const auto& [option, result] : saves)  // where each goes, checked before the maps are made
         if (args.has(option))
-            filter.check(sf_filter_check_image_output(filter.get(), result, args.option(option).c_str(), input.shape().frames,
-                                                      args.positionals()[0].c_str()));
+            check_save_outputs(filter, {{result, args.option(option)}}, args.positionals()[0], args.option("frames"), "");
     check(sf_sequence_create(input.shape(), output.out()));
     filter.check(sf_filter_set_progress(filter.get(), &ProgressLine::callback, &progress));
     filter.check(sf_filter_execute(filter.get(), input.get(), output.get()));

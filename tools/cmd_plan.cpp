@@ -52,8 +52,6 @@ int plan_detect(int argc, char** argv) {
                     "  -o PLAN, --output-file PLAN   the plan file to write\n"
                     "  --tiles N               bands of rows (or --tile-rows R rows each; default 256 rows)\n"
                     "  --work DIR              where tasks exchange files, on shared storage (default PLAN.work)\n"
-                    "  --save NAME=PATH[,...]  image results, as denoise writes them: rank_map (error-threshold),\n"
-                    "                          alpha (balanced, hybrid), or any of a one-task plan's (PNG: false colour)\n"
                     "  --memory SIZE, --threads N   each task's (default: half of its node's memory, every core)\n"
                     "  detect parameters       as 'statfilter detect --help' lists them (--degree, --threshold, ...)\n"
                     "\n%s", kInputHelp);

@@ -103,8 +103,13 @@ void write_images(Run& run, const Results& made) {
         const bool png = extension == ".png";
         write_sequence(png ? *false_colour_preview(*image) : *image, path, as_float);
         run.outputs.push_back(path);
-        std::error_code ec;
-        run.bytes_written += static_cast<int64_t>(fs::file_size(path, ec));
+        const FramePattern files(path);  // a frame per frame (beta): each file's bytes
+        for (int64_t f = 0; f < image->shape().frames; ++f) {
+            std::error_code ec;
+            const auto bytes = fs::file_size(files.has_frame_token() ? files.format(image->frame_numbers()[static_cast<size_t>(f)]) : path, ec);
+            if (!ec) run.bytes_written += static_cast<int64_t>(bytes);
+            if (!files.has_frame_token()) break;
+        }
     }
 }
 

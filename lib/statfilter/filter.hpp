@@ -10,7 +10,6 @@
 #include "statfilter/params.hpp"
 #include "statfilter/progress.hpp"
 #include "statfilter/sequence.hpp"
-#include "statfilter/sequence_io.hpp"
 
 namespace statfilter {
 
@@ -93,11 +92,13 @@ private:
 };
 
 // Checks, writing nothing, that image result `name` of `filter` can be written to `pattern` as a
-// float image (a .png as its false-colour picture) for a shot of `shot_frames` frames: a name the
-// filter has, a frame token when the result has a frame per frame and the shot more than one, the
-// format, the directory (created when missing), not a frame of checks.input_pattern. What the
-// front ends do with every --save before the first pixel is read.
+// float image (a .png as its false-colour picture) after a run over the frames numbered shot_frames:
+// a name the filter has, a frame token when the result has a frame per frame and the run more than
+// one, the format, the directory (created when missing), and that no file it would write is a frame
+// of input_pattern on disk or of other_pattern at those numbers (the run's output; "" = none). What
+// the front ends do with every --save before the work.
 void check_image_result_output(const Filter& filter, const std::string& name, const std::string& pattern,
-                               int64_t shot_frames, const OutputChecks& checks);
+                               const std::vector<int64_t>& shot_frames, const std::string& input_pattern,
+                               const std::string& other_pattern);
 
 }  // namespace statfilter

@@ -298,7 +298,7 @@ FUNCTIONS = {
     "sf_filter_execute": (sf_status, [sf_filter, sf_sequence, sf_sequence]),
     "sf_filter_image_result_count": (sf_status, [sf_filter, _P(c_int)]),
     "sf_filter_image_result_name": (sf_status, [sf_filter, c_int, _P(c_char_p)]),
-    "sf_filter_check_image_output": (sf_status, [sf_filter, c_char_p, c_char_p, c_int64, c_char_p]),
+    "sf_filter_check_image_output": (sf_status, [sf_filter, c_char_p, c_char_p, c_char_p, c_char_p, c_char_p]),
     "sf_run_options_init": (None, [_P(sf_run_options)]),
     "sf_memory_size_parse": (sf_status, [c_char_p, _P(c_int64)]),
     "sf_filter_run": (sf_status, [sf_filter, c_char_p, _P(sf_read_options), c_char_p, _P(sf_write_options),

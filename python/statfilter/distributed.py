@@ -271,7 +271,6 @@ def detect(denoised: str, noisy: Optional[str], mask: Optional[str] = None, crop
     memory, threads: each task's budget and threads (threads default: 1 on a client, one task per
                worker thread; every core here).
     retries:   times Dask reruns a task whose worker died (tasks are idempotent).
-    save:      image results to write, {name: path}, each by the task that makes it (write_plan).
     Returns the report as ``denoise`` does (kind "detect"); its results are the detect filter's
     (flagged_fraction, window_count, delta, ...). Every output is that of ``statfilter detect
     DENOISED --noisy NOISY --mask MASK --crops CROPS --score ... --degree-map ... --preview ...`` with

@@ -155,6 +155,10 @@ def test_plan_checks_before_any_work(sample_noisy, tmp_path):
     proc = run("plan", sample_noisy, tmp_path / "o.####.exr", "--method", "motion", "--save", f"beta={tmp_path / 'b.exr'}",
                "-o", tmp_path / "p.json", check_rc=1)
     assert "image result 'beta'" in proc.stderr and "no frame token" in proc.stderr
+    for frame in (tmp_path / "o.0002.exr", str(sample_noisy).replace("####", "0003")):  # an output or input frame
+        proc = run("plan", sample_noisy, tmp_path / "o.####.exr", "--method", "error-threshold", "--save",
+                   f"rank_map={frame}", "-o", tmp_path / "p.json", check_rc=1)
+        assert "is a frame of" in proc.stderr and not (tmp_path / "p.json").exists()
     run("plan", sample_noisy, tmp_path / "o.####.exr", "--method", "pca", "-o", tmp_path / "p.json", "--quiet")
     proc = run("task", tmp_path / "p.json", 99, check_rc=1)
     assert "task 99 is not in the plan" in proc.stderr

@@ -815,27 +815,46 @@ TEST(CapiFalseColour, KnownColoursFrameNumbersAndChannels) {
 }
 
 // Where an image result will go, checked before any work: the name, a frame token for a result with
-// a frame per frame over more than one frame (one image needs none), the directory, the input.
+// a frame per frame over more than one frame (one image needs none; the selection counts), the
+// format, the directory, and never over an input frame on disk or an output frame of the run.
 TEST(CapiImageOutput, CheckedBeforeAnyWorkAndNothingWritten) {
     TempDir dir;
+    Seq frames = filled_sequence(shape_of(3, 2, 2, 1), [](int64_t, int64_t, int64_t, int64_t) { return 1.0f; });
+    for (int64_t f = 0; f < 3; ++f) ASSERT_SF_OK(sf_sequence_set_frame_number(frames.get(), f, 1001 + f));
+    const std::string in = dir.file("in/in.####.exr"), out = dir.file("out/o.####.exr");
+    const sf_write_options wo = write_options(SF_PIXEL_FLOAT);
+    ASSERT_SF_OK(sf_sequence_write(frames.get(), in.c_str(), &wo));
     sf_filter motion = nullptr;
     ASSERT_SF_OK(sf_filter_create("motion", &motion));
     Filt filter(motion);
+    const auto check = [&](const char* name, const std::string& pattern, const char* selection = nullptr) {
+        return sf_filter_check_image_output(motion, name, pattern.c_str(), in.c_str(), selection, out.c_str());
+    };
+    const auto refused = [&](const char* name, const std::string& pattern, const char* words, const char* selection = nullptr) {
+        EXPECT_EQ(check(name, pattern, selection), SF_ERROR_INVALID_ARGUMENT) << pattern;
+        EXPECT_NE(std::string(sf_filter_last_error(motion)).find(words), std::string::npos) << sf_filter_last_error(motion);
+    };
     const std::string one = dir.file("maps/alpha.exr"), per_frame = dir.file("maps/beta.####.exr");
-    EXPECT_SF_OK(sf_filter_check_image_output(motion, "alpha", one.c_str(), 32, nullptr));  // one image: no token
-    EXPECT_SF_OK(sf_filter_check_image_output(motion, "beta", per_frame.c_str(), 32, nullptr));
-    EXPECT_SF_OK(sf_filter_check_image_output(motion, "beta", one.c_str(), 1, nullptr));  // one frame: no token
+    EXPECT_SF_OK(check("alpha", one));  // one image: no token
+    EXPECT_SF_OK(check("beta", per_frame));
+    EXPECT_SF_OK(check("beta", one, "1002"));  // one frame selected: no token
+    EXPECT_SF_OK(check("beta", dir.file("maps/b.png"), "1002,1002"));  // the same frame twice is one
     EXPECT_TRUE(fs::is_directory(dir.file("maps")));  // created, as for the run's output
     EXPECT_TRUE(fs::is_empty(dir.file("maps")));      // and nothing written in it
-    EXPECT_EQ(sf_filter_check_image_output(motion, "beta", one.c_str(), 32, nullptr), SF_ERROR_INVALID_ARGUMENT);
-    EXPECT_NE(std::string(sf_filter_last_error(motion)).find("no frame token"), std::string::npos);
-    EXPECT_EQ(sf_filter_check_image_output(motion, "rank_map", one.c_str(), 32, nullptr), SF_ERROR_INVALID_ARGUMENT);
-    EXPECT_NE(std::string(sf_filter_last_error(motion)).find("it has: alpha, beta"), std::string::npos);
-    EXPECT_EQ(sf_filter_check_image_output(motion, "alpha", one.c_str(), 0, nullptr), SF_ERROR_INVALID_ARGUMENT);
-    EXPECT_NE(sf_filter_check_image_output(motion, "alpha", dir.file("in.####.exr").c_str(), 4,
-                                           dir.file("in.####.exr").c_str()),
-              SF_OK);
+    refused("beta", one, "no frame token");
+    refused("beta", one, "no frame token", "1001-1003x2");
+    refused("rank_map", one, "it has: alpha, beta");
+    refused("alpha", dir.file("in/in.1002.exr"), "is a frame of");        // an input frame by name
+    refused("alpha", dir.file("in/../in/in.1003.exr"), "is a frame of");  // ... by another path to it
+    refused("alpha", dir.file("out/o.1001.exr"), "is a frame of");        // a frame the run writes
+    refused("beta", dir.file("in/in.####.exr"), "is a frame of");
+    refused("alpha", dir.file("maps/alpha.xyz"), "no writer for its file format");
     write_text_file(dir.file("a_file"), "");
-    EXPECT_NE(sf_filter_check_image_output(motion, "alpha", dir.file("a_file/alpha.exr").c_str(), 4, nullptr), SF_OK);
-    EXPECT_EQ(sf_filter_check_image_output(motion, nullptr, one.c_str(), 4, nullptr), SF_ERROR_INVALID_ARGUMENT);
+    EXPECT_NE(check("alpha", dir.file("a_file/alpha.exr")), SF_OK);
+    refused("alpha", one, "invalid frame range", "5-");
+    EXPECT_EQ(sf_filter_check_image_output(motion, nullptr, one.c_str(), in.c_str(), nullptr, nullptr),
+              SF_ERROR_INVALID_ARGUMENT);
+    EXPECT_SF_OK(sf_filter_check_image_output(motion, "alpha", one.c_str(), dir.file("none.####.exr").c_str(), nullptr,
+                                              nullptr));  // no input on disk: the run says so, not this check
+    EXPECT_TRUE(fs::is_empty(dir.file("maps")));
 }

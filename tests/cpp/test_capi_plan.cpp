@@ -236,7 +236,8 @@ TEST(Plan, ImageResultsAreTheSingleRunsAndBadOnesAreRefused) {
     sf_image_output onto_output[] = {{"rank_map", out.c_str()}};
     o.images = onto_output;
     refused(o, {"the plan's output"});
-    sf_image_output twice[] = {{"rank_map", path.c_str()}, {"rank_map", dir.file("other.exr").c_str()}};
+    const std::string other = dir.file("other.exr");
+    sf_image_output twice[] = {{"rank_map", path.c_str()}, {"rank_map", other.c_str()}};
     o.images = twice;
     o.image_count = 2;
     refused(o, {"asked for twice"});

@@ -273,13 +273,16 @@ SF_API sf_status sf_filter_image_result_name(sf_filter filter, int index, const 
 
 /* Checks, before any work and writing nothing, that the image result `name` can be written to
  * `pattern` with sf_sequence_write (float; a .png path as its false-colour picture) after a run over
- * shot_frames frames: a name the filter has, a frame token in the pattern when the result has a frame
- * per frame of the shot (beta, detect's mask and score) and the shot has more than one, the file
- * format, and the directory (created when missing, as sf_filter_run creates its output's); the
- * pattern may not name a frame of input_pattern (NULL: no such check). What `statfilter denoise
- * --save` and `statfilter detect` check before the first pixel is read. */
+ * input_pattern's frames `frames` (as sf_read_options.frames: NULL or "" = every frame on disk): a
+ * name the filter has, a frame token in the pattern when the result has a frame per frame (beta,
+ * detect's mask and score) and the run more than one, a file format the library writes, and the
+ * directory (created when missing, as sf_filter_run creates its output's); and that no file it would
+ * write is a frame of the input on disk, or of other_pattern at the run's frame numbers (e.g. the
+ * run's output; NULL: not checked). What `statfilter denoise --save`, `statfilter detect` and
+ * `statfilter motion` check before the work. */
 SF_API sf_status sf_filter_check_image_output(sf_filter filter, const char* name, const char* pattern,
-                                              int64_t shot_frames, const char* input_pattern);
+                                              const char* input_pattern, const char* frames,
+                                              const char* other_pattern);
 
 SF_API sf_status sf_filter_set_progress(sf_filter filter, sf_progress_callback callback, void* user);
 
