@@ -273,6 +273,7 @@ sf_status sf_plan_write(sf_filter filter, const char* input_pattern, const sf_re
         request.tiles = p.tiles;
         request.tile_rows = p.tile_rows;
         request.frames_per_task = p.frames_per_task;
+        request.half_tiles = wo.half && !wo.color.active() && !wo.into;
         request.budget_bytes = static_cast<double>(r.memory);
         request.threads = r.threads;
         request.front_end = front_end_json(handle.name, *handle.filter, ro_c, wo_c);
@@ -358,6 +359,7 @@ sf_status sf_plan_run_task(const char* plan_path, int64_t task, const sf_run_opt
                               {"statfilter:parameters", changed}};
         context.budget_bytes = static_cast<double>(r.memory);
         context.threads = r.threads;
+        context.clamp_half = wo.clamp_half;
         context.progress = make_progress(r.progress, r.progress_user);
         run_plan_task(plan, task, context);
     });

@@ -21,6 +21,7 @@
 #include "statfilter/color_convert.hpp"
 #include "statfilter/exr_into.hpp"
 #include "statfilter/error.hpp"
+#include "statfilter/half_samples.hpp"
 #include "statfilter/frame_metadata.hpp"
 #include "statfilter/frame_pattern.hpp"
 #include "statfilter/sequence_io.hpp"
@@ -30,7 +31,6 @@ namespace fs = std::filesystem;
 namespace statfilter {
 namespace {
 
-constexpr float kHalfMax = 65504.0f;
 
 // The level after "name:" (the writer checks the name): a whole number 1-9 for zip and zips, a
 // number > 0 for dwaa and dwab, none for the others. OpenEXR would otherwise ignore it silently.
@@ -62,19 +62,6 @@ void check_compression(const std::string& compression) {
         if (base == k) return check_compression_level(compression);
     throw Error(Status::InvalidArgument, "unknown EXR compression '" + compression +
                                              "' (none, rle, zips, zip, piz, pxr24, b44, b44a, dwaa, dwab)");
-}
-
-// Finite values beyond half's range would become Inf: refuse, or clamp when asked.
-void check_half_range(const float* frame, size_t count, const Sequence& seq, int64_t f) {
-    for (size_t i = 0; i < count; ++i) {
-        const float v = frame[i];
-        if (std::isfinite(v) && std::fabs(v) > kHalfMax) {
-            const int64_t c = static_cast<int64_t>(i) % seq.shape().channels;
-            throw Error(Status::Numeric, "frame " + std::to_string(seq.frame_numbers()[f]) + " channel '" +
-                                             seq.channel_names()[c] + "' holds " + std::to_string(v) +
-                                             ", beyond half float's range (65504): write float, or clamp");
-        }
-    }
 }
 
 std::string temporary_name(const std::string& final_path) {
@@ -269,11 +256,8 @@ public:
             tmp = write_into_temporary(path, frame, attributes_, f, options_, extra);
         } else if (options_.half) {
             if (!options_.clamp_half) check_half_range(frame, count, attributes_, f);
-            std::vector<half> halves(count);
-            for (size_t i = 0; i < count; ++i) {
-                const float v = frame[i];
-                halves[i] = options_.clamp_half && std::isfinite(v) ? std::max(-kHalfMax, std::min(kHalfMax, v)) : v;
-            }
+            std::vector<uint16_t> halves(count);
+            to_half(frame, count, options_.clamp_half, halves.data());
             tmp = write_temporary(path, halves.data(), attributes_, f, shape_, options_, extra);
         } else {
             tmp = write_temporary(path, frame, attributes_, f, shape_, options_, extra);

@@ -104,10 +104,12 @@ std::string make_plan(const Filter& filter, const FrameSource& source, const Pla
                             "a tile task (" + std::to_string(tile_shape.height) + " rows of every frame)");
         reason = "the low-rank stage (" + describe(low_rank->footprint()) + ") as " + std::to_string(tiles) +
                  " bands of " + std::to_string(rows) + " rows: partial Grams summed in tile order, halo " +
-                 std::to_string(halo) + " rows";
+                 std::to_string(halo) + " rows, rebuilt rows exchanged as " +
+                 (request.half_tiles ? "the output's half floats" : "float32");
         extra << "  \"scales\": [";
         for (size_t i = 0; i < scales.size(); ++i) extra << (i ? ", " : "") << json_number(scales[i]);
         extra << "],\n  \"halo\": " << halo << ",\n  \"tile_rows\": " << rows << ",\n";
+        extra << "  \"tile_samples\": " << (request.half_tiles ? "\"half\"" : "\"float32\"") << ",\n";
         std::vector<int64_t> statistics, reconstruct;
         for (int64_t t = 0; t < tiles; ++t) {
             const int64_t y0 = t * rows, y1 = std::min(s.height, y0 + rows);

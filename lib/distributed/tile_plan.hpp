@@ -36,6 +36,9 @@ struct PlanRequest {
     // Image results to write (name, absolute path; paths checked by the front end): each by the task
     // that makes it, or refused when the plan's tasks make none of that name.
     std::vector<std::pair<std::string, std::string>> images;
+    // The output is written as half with no colour conversion: the tiles' rows go through shared
+    // storage as the half floats the frames will hold (the same rounding, half the bytes).
+    bool half_tiles = false;
 };
 
 // Checks the shot against the filter and writes nothing but returns the plan (JSON text). Reads the
@@ -54,6 +57,7 @@ struct TaskContext {
     std::vector<std::pair<std::string, std::string>> attributes;  // provenance for every frame written
     double budget_bytes = 0;  // 0: the plan's
     int threads = 0;          // 0: the plan's
+    bool clamp_half = false;  // the plan's write options: finite values beyond half's range clamped
     Progress progress;
 };
 

@@ -28,6 +28,7 @@
 #include "statfilter/error.hpp"
 #include "statfilter/false_colour.hpp"
 #include "statfilter/frame_pattern.hpp"
+#include "statfilter/half_samples.hpp"
 #include "statfilter/sequence_io.hpp"
 
 namespace statfilter {
@@ -58,6 +59,12 @@ struct Run {
     Results results;
     std::vector<std::string> outputs;
 };
+
+// The tiles' rebuilt rows as the output's half floats (the plan says; a plan without the field: float32).
+bool half_tiles(const JsonValue& plan) {
+    const JsonValue* samples = plan.find("tile_samples");
+    return samples && samples->is(JsonValue::Type::String) && samples->string() == "half";
+}
 
 // The plan's low-rank stage, carrying the plan's transform scales.
 LowRankStage tile_stage(const Run& run, bool gram) {
@@ -185,11 +192,19 @@ void reconstruct_task(Run& run, const JsonValue& task) {
         stats.groups[g].basis = std::make_shared<TemporalBasis>(reduced.groups[g].basis);
     }
     const int64_t row_floats = s.width * s.channels, rows = y1 - y0;
-    const size_t frame_bytes = static_cast<size_t>(rows * row_floats) * sizeof(float);
+    const bool half = half_tiles(run.plan);
+    const size_t count = static_cast<size_t>(rows * row_floats);
+    const size_t frame_bytes = count * (half ? sizeof(uint16_t) : sizeof(float));
     AtomicFile out(run.work.tile(tile));
     Results own;
-    stage.reconstruct(*window, std::move(stats), [&](int64_t t, float* pixels) {
-        out.write_at(t * static_cast<int64_t>(frame_bytes), pixels + (y0 - r0) * row_floats, frame_bytes);
+    stage.reconstruct(*window, std::move(stats), [&](int64_t t, float* pixels) {  // frames on several threads
+        const float* own_rows = pixels + (y0 - r0) * row_floats;
+        if (!half) return out.write_at(t * static_cast<int64_t>(frame_bytes), own_rows, frame_bytes);
+        // What the writer does with the frame, here on the tile's rows: the same error, or the same halves.
+        if (!run.context.clamp_half) check_half_range(own_rows, count, window->attributes(), t);
+        std::vector<uint16_t> halves(count);
+        to_half(own_rows, count, run.context.clamp_half, halves.data());
+        out.write_at(t * static_cast<int64_t>(frame_bytes), halves.data(), frame_bytes);
     }, run.stage, own);
     out.commit();
     run.bytes_written += static_cast<int64_t>(frame_bytes) * s.frames;
@@ -240,17 +255,29 @@ void assemble_task(Run& run, const JsonValue& task, int64_t index) {
     for (const char* name : {"method", "reason"})
         if (annotation.has(name)) sink->set_attribute(std::string("statfilter:") + name, annotation.get_string(name));
     const int64_t row_floats = s.width * s.channels;
+    const bool half = half_tiles(run.plan);
+    const int64_t sample_bytes = half ? sizeof(uint16_t) : sizeof(float);
     parallel_for(f1 - f0, run.stage.threads, [&](int64_t i) {
         const int64_t t = f0 + i;
         std::vector<float> frame(static_cast<size_t>(s.height * row_floats));
+        std::vector<uint16_t> halves;
         for (size_t k = 0; k < tiles.size(); ++k) {
             const auto [y0, y1] = tiles[k];
-            const size_t bytes = static_cast<size_t>((y1 - y0) * row_floats) * sizeof(float);
-            read_file_at(run.work.tile(static_cast<int64_t>(k)), t * static_cast<int64_t>(bytes), frame.data() + y0 * row_floats, bytes);
+            const auto count = static_cast<size_t>((y1 - y0) * row_floats);
+            const size_t bytes = count * static_cast<size_t>(sample_bytes);
+            const std::string path = run.work.tile(static_cast<int64_t>(k));
+            float* rows = frame.data() + y0 * row_floats;
+            if (!half) {
+                read_file_at(path, t * static_cast<int64_t>(bytes), rows, bytes);
+                continue;
+            }
+            halves.resize(count);
+            read_file_at(path, t * static_cast<int64_t>(bytes), halves.data(), bytes);
+            from_half(halves.data(), count, rows);  // exact: the writer rounds them to the same halves
         }
         sink->write_frame(i, frame.data());
     }, {run.context.progress, 0.0, 0.9, "assemble"});
-    run.bytes_read += (f1 - f0) * s.height * row_floats * static_cast<int64_t>(sizeof(float));
+    run.bytes_read += (f1 - f0) * s.height * row_floats * sample_bytes;
     sink->commit();
     sink.reset();
     publish(run, staging, *attributes);

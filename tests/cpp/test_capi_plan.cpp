@@ -133,6 +133,59 @@ TEST(Plan, TasksInOrderGiveTheSingleRunOutput) {
     EXPECT_TRUE(fs::exists(dir.file("plan.json.work/task-9.json")));
 }
 
+// A half output without a colour conversion: the tiles hold the halves the writer will write (half the
+// bytes), with the writer's own rule for a value beyond half's range: the same error, or clamped.
+TEST(Plan, HalfOutputTilesHoldTheWritersHalves) {
+    TempDir dir;
+    std::mt19937 rng(3);
+    std::normal_distribution<float> noise(0.0f, 0.05f);
+    Seq seq = filled_sequence(shape_of(6, 8, 6, 3), [&](int64_t f, int64_t y, int64_t x, int64_t c) {
+        const bool hot = y == 2 && x == 3;  // a pixel beyond half's range in every frame
+        return (hot ? 2e5f : 0.3f + 0.1f * static_cast<float>(c) + 0.01f * static_cast<float>(x + y + f)) + noise(rng);
+    });
+    for (int64_t f = 0; f < 6; ++f) ASSERT_SF_OK(sf_sequence_set_frame_number(seq.get(), f, f + 1));
+    const std::string in = dir.file("in.####.exr");
+    const sf_write_options float_out = write_options(SF_PIXEL_FLOAT);
+    ASSERT_SF_OK(sf_sequence_write(seq.get(), in.c_str(), &float_out));
+    for (const int clamp : {1, 0}) {
+        sf_write_options wo = write_options(SF_PIXEL_HALF);
+        wo.half_overflow = clamp;
+        const std::string tag = std::to_string(clamp);
+        Filt single = pca_filter();
+        const sf_status single_status =
+            sf_filter_run(single.get(), in.c_str(), nullptr, dir.file("single" + tag + ".####.exr").c_str(), &wo, nullptr);
+        Filt filter = pca_filter();
+        sf_plan_options po;
+        sf_plan_options_init(&po);
+        po.tile_rows = 3;
+        const std::string plan = dir.file("plan" + tag + ".json");
+        ASSERT_SF_OK(sf_plan_write(filter.get(), in.c_str(), nullptr, dir.file("out" + tag + ".####.exr").c_str(), &wo,
+                                   nullptr, &po, plan.c_str()));
+        EXPECT_NE(read_text(plan).find("\"tile_samples\": \"half\""), std::string::npos);
+        int64_t count = 0;
+        ASSERT_SF_OK(sf_plan_task_count(plan.c_str(), &count));
+        sf_status status = SF_OK;
+        for (int64_t t = 0; t < count && status == SF_OK; ++t) status = sf_plan_run_task(plan.c_str(), t, nullptr);
+        if (clamp) {
+            ASSERT_SF_OK(single_status);
+            ASSERT_SF_OK(status);
+            EXPECT_EQ(samples_of(read_sequence(dir.file("out1.####.exr")).get()),
+                      samples_of(read_sequence(dir.file("single1.####.exr")).get()));
+            EXPECT_EQ(fs::file_size(dir.file("plan1.json.work/tile-0.f32")), static_cast<uintmax_t>(6 * 3 * 6 * 3 * 2));
+        } else {  // the writer's error, from the reconstruction that meets the value, and no frame written
+            EXPECT_EQ(single_status, SF_ERROR_NUMERIC);
+            EXPECT_EQ(status, SF_ERROR_NUMERIC);
+            EXPECT_NE(std::string(sf_last_error()).find("beyond half float's range"), std::string::npos) << sf_last_error();
+            EXPECT_FALSE(fs::exists(dir.file("out0.0001.exr")));
+        }
+    }
+    // Float output: float32 tiles.
+    Filt filter = pca_filter();
+    ASSERT_SF_OK(sf_plan_write(filter.get(), in.c_str(), nullptr, dir.file("f.####.exr").c_str(), &float_out, nullptr,
+                               nullptr, dir.file("float.json").c_str()));
+    EXPECT_NE(read_text(dir.file("float.json")).find("\"tile_samples\": \"float32\""), std::string::npos);
+}
+
 TEST(Plan, BadArgumentsAreRefusedBeforeAnythingIsWritten) {
     TempDir dir;
     const std::string in = write_shot(dir, 4);
