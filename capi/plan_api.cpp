@@ -118,10 +118,9 @@ JsonValue read_plan(const std::string& path) {
 
 std::string absolute(const std::string& path) { return fs::absolute(path).lexically_normal().string(); }
 
-// plan->images as (name, absolute path), each checked as the task will write it after a run over the
-// shot's frames (nothing written) and refused when it is the input or the output, or one of their frames.
-std::vector<std::pair<std::string, std::string>> image_outputs(const sf_plan_options& p, const Filter& filter,
-                                                               const std::vector<int64_t>& frames, const std::string& input,
+// plan->images as (name, absolute path), refused when a path is the input or output pattern (make_plan
+// checks the rest, as the tasks will write them).
+std::vector<std::pair<std::string, std::string>> image_outputs(const sf_plan_options& p, const std::string& input,
                                                                const std::string& output) {
     if (p.image_count < 0) throw Error(Status::InvalidArgument, "plan->image_count must be >= 0");
     if (p.image_count > 0 && !p.images) throw Error(Status::InvalidArgument, "plan->images is NULL with image_count > 0");
@@ -135,7 +134,6 @@ std::vector<std::pair<std::string, std::string>> image_outputs(const sf_plan_opt
         if (path == input || path == output)
             throw Error(Status::InvalidArgument, std::string("the image result '") + o.name + "' would be written to the plan's " +
                                                      (path == input ? "input" : "output") + " '" + path + "'");
-        check_image_result_output(filter, o.name, path, frames, input, output);
         images.emplace_back(o.name, path);
     }
     return images;
@@ -266,7 +264,7 @@ sf_status sf_plan_write(sf_filter filter, const char* input_pattern, const sf_re
         checks.input_pattern = in;
         open_frame_sink(out, wo, source->attributes(), checks);  // the output's checks, now; nothing written
         PlanRequest request;
-        request.images = image_outputs(p, *handle.filter, source->attributes().frame_numbers(), in, out);
+        request.images = image_outputs(p, in, out);
         request.input = in;
         request.output = out;
         request.work_dir = absolute(p.work_dir && *p.work_dir ? std::string(p.work_dir) : path + ".work");

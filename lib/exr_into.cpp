@@ -18,7 +18,6 @@
 #include <ImfStringAttribute.h>
 #include <ImfTiledInputPart.h>
 #include <ImfTiledOutputPart.h>
-#include <half.h>
 
 #include <algorithm>
 #include <cmath>
@@ -26,11 +25,10 @@
 #include <limits>
 
 #include "statfilter/error.hpp"
+#include "statfilter/half_samples.hpp"
 
 namespace statfilter {
 namespace {
-
-constexpr float kHalfMax = 65504.0f;
 
 // A part's type; single-part files written before multi-part EXR carry none.
 std::string part_type(const Imf::Header& header) {
@@ -109,14 +107,10 @@ void store(ChannelBuffer& buffer, size_t i, float v, bool clamp_half, const std:
     if (buffer.type == Imf::FLOAT) {
         std::memcpy(at, &v, sizeof v);
     } else if (buffer.type == Imf::HALF) {
-        if (std::isfinite(v) && std::fabs(v) > kHalfMax) {
-            if (!clamp_half)
-                throw Error(Status::Numeric, what + ": value " + std::to_string(v) +
-                                                 " exceeds half's range (65504): clamp it, or store the channel as float");
-            v = std::copysign(kHalfMax, v);
-        }
-        const half h(v);
-        std::memcpy(at, &h, sizeof h);
+        if (!clamp_half && std::isfinite(v) && std::fabs(v) > kHalfMax)
+            throw Error(Status::Numeric, what + ": value " + std::to_string(v) +
+                                             " exceeds half's range (65504): clamp it, or store the channel as float");
+        to_half(&v, 1, clamp_half, reinterpret_cast<uint16_t*>(at));
     } else {  // UINT: rounded and held in its range
         const double d = std::isfinite(v) ? std::round(static_cast<double>(v)) : 0.0;
         const auto u = static_cast<uint32_t>(std::clamp(d, 0.0, 4294967295.0));

@@ -24,20 +24,20 @@ std::vector<std::string> plan_images(const Filter& filter, const std::string& ki
     return {};
 }
 
-void check_images(const Filter& filter, const std::string& kind, const LowRankStage* low_rank, const PlanRequest& request) {
+// Each image the request asks for, checked as the task that makes it will write it (the name, the
+// pattern, format and directory, never over an input or output frame: check_image_result_output),
+// that the plan's tasks make it, and that no name or path is asked for twice.
+void check_images(const Filter& filter, const FrameSource& source, const std::string& kind, const LowRankStage* low_rank,
+                  const PlanRequest& request) {
     const std::vector<std::string> made = plan_images(filter, kind, low_rank);
-    const std::vector<std::string>& declared = filter.image_results();
-    const auto list = [](const std::vector<std::string>& names) {
-        std::string out;
-        for (const std::string& n : names) out += (out.empty() ? "" : ", ") + n;
-        return out.empty() ? std::string("none") : out;
-    };
     for (const auto& [name, path] : request.images) {
-        if (std::find(declared.begin(), declared.end(), name) == declared.end())
-            throw Error(Status::InvalidArgument, "the filter has no image result '" + name + "' (it has: " + list(declared) + ")");
-        if (std::find(made.begin(), made.end(), name) == made.end())
+        check_image_result_output(filter, name, path, source.attributes().frame_numbers(), request.input, request.output);
+        if (std::find(made.begin(), made.end(), name) == made.end()) {
+            std::string list;
+            for (const std::string& n : made) list += (list.empty() ? "" : ", ") + n;
             throw Error(Status::InvalidArgument, "a '" + kind + "' plan's tasks do not make the image result '" + name +
-                                                     "' (they make: " + list(made) + ")");
+                                                     "' (they make: " + (list.empty() ? std::string("none") : list) + ")");
+        }
     }
     for (size_t i = 0; i < request.images.size(); ++i)
         for (size_t j = i + 1; j < request.images.size(); ++j) {
@@ -83,11 +83,17 @@ std::string make_plan(const Filter& filter, const FrameSource& source, const Pla
     const bool post_per_frame = !post || !FrameStagePool("postfilter", stages).takes_memory_share();
     const WindowedStage* windowed = stage && !pre && post_per_frame ? stage->windowed() : nullptr;
 
-    std::string kind, reason;
+    // What runs as which task; the images asked for checked against it before any frame is read.
+    const std::string kind = low_rank && !pre && !post                                 ? "tiles"
+                             : windowed                                               ? "window"
+                             : stage && stage->footprint().reach == TemporalReach::Frame ? "frames"
+                                                                                      : "shot";
+    check_images(filter, source, kind, low_rank, request);
+
+    std::string reason;
     std::vector<Task> tasks;
     std::ostringstream extra;
-    if (low_rank && !pre && !post) {
-        kind = "tiles";
+    if (kind == "tiles") {
         int64_t rows = request.tile_rows;
         if (request.tiles > 0) rows = (s.height + request.tiles - 1) / request.tiles;
         if (rows <= 0) rows = 256;
@@ -130,10 +136,9 @@ std::string make_plan(const Filter& filter, const FrameSource& source, const Pla
             tasks.push_back({"assemble", "\"frames\": " + range_json(f, std::min(s.frames, f + per_task)), reconstruct});
         // The rank map from every tile's rows, beside the assembly.
         if (!request.images.empty()) tasks.push_back({"images", "\"tiles\": " + std::to_string(tiles), reconstruct});
-    } else if (windowed) {
+    } else if (kind == "window") {
         // The passes over the shot in one task; then chunks of frames, each reading its frames and the
         // window's reach either side from the input and from the analysis.
-        kind = "window";
         const int64_t h = windowed->window_half();
         const double budget = request.budget_bytes > 0 ? request.budget_bytes : static_cast<double>(default_memory_budget());
         const int threads = request.threads > 0 ? request.threads : 1;
@@ -161,14 +166,12 @@ std::string make_plan(const Filter& filter, const FrameSource& source, const Pla
                                  range_json(std::max<int64_t>(0, f - h), std::min(s.frames, f1 + h)),
                              {guides}});
         }
-    } else if (stage && stage->footprint().reach == TemporalReach::Frame) {
-        kind = "frames";
+    } else if (kind == "frames") {
         reason = "a per-frame filter (" + describe(stage->footprint()) + "): chunks of " + std::to_string(per_task) +
                  " whole frames";
         for (int64_t f = 0; f < s.frames; f += per_task)
             tasks.push_back({"frames", "\"frames\": " + range_json(f, std::min(s.frames, f + per_task)), {}});
     } else {
-        kind = "shot";
         reason = std::string("one task for the whole shot: ") +
                  (low_rank ? "a prefilter or postfilter around the low-rank stage is not cut into tiles yet"
                   : stage  ? "the filter's stage (" + describe(stage->footprint()) + ") is not cut into tiles yet"
@@ -176,7 +179,6 @@ std::string make_plan(const Filter& filter, const FrameSource& source, const Pla
         tasks.push_back({"shot", "\"frames\": " + range_json(0, s.frames), {}});
     }
 
-    check_images(filter, kind, low_rank, request);
     if (!request.images.empty()) extra << "  \"images\": " << images_json(request) << ",\n";
 
     std::ostringstream out;
