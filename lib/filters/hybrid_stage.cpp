@@ -191,10 +191,11 @@ Footprint HybridStage::footprint() const {
 }
 
 double HybridStage::analysis_bytes(const Shape& s) const {
-    // alpha's energies and tails, the change test's centres and noise (double) and departures, three
-    // float maps, and the halo rows of a band.
+    // alpha's energies and tails, the change test's centres and noise (double) and departures, the
+    // row sums box_mean pools alpha's planes through (double), three float maps, and the halo rows of
+    // a band.
     const double P = static_cast<double>(s.pixels());
-    return P * (4 * sizeof(double) + 3 * sizeof(float) + 2 + sizeof(uint32_t)) +
+    return P * (5 * sizeof(double) + 3 * sizeof(float) + 2 + sizeof(uint32_t)) +
            2.0 * TemporalChange::kHalo * s.frames * s.width * s.channels * (sizeof(float) + sizeof(double));
 }
 

@@ -84,7 +84,8 @@ double LowRankStage::pass_bytes(const Shape& s, int64_t rank) const {
     const double stored = options_.per_pixel ? std::min<int64_t>(options_.max_rank, s.frames - 1) : rank;
     double bytes = stored * P * C * sizeof(float) + P * C * sizeof(double);  // coefficients and means
     if (options_.prep.keep_mean) bytes += P * C * (sizeof(double) + 1);      // linear means and signs
-    if (options_.per_pixel) bytes += (stored + 1) * P * sizeof(double) + P * sizeof(int64_t);  // energies, ranks
+    // energies (stored + 1 planes), the row sums box_mean pools each plane through, ranks
+    if (options_.per_pixel) bytes += (stored + 2) * P * sizeof(double) + P * sizeof(int64_t);
     bytes += 2.0 * s.frames * s.frames * sizeof(double);                     // Gram and basis
     return bytes;
 }
