@@ -221,7 +221,14 @@ def model(measured, tiles4k):
                 waves = math.ceil(T / n)
                 frames_per_task = max(1, math.ceil(F / n))
                 stats = max(waves * (line("statistics", rows) + overhead), input_bytes / bandwidth)
-                reduce = per_partial * T + overhead
+                # The plan's reduction (tile_plan.cpp): one task up to 32 bands, else sqrt(T) sum tasks
+                # of about sqrt(T) partials each (in waves over the nodes), then one of their sums.
+                if T <= 32:
+                    reduce = per_partial * T + overhead
+                else:
+                    parts = math.isqrt(T - 1) + 1
+                    reduce = (math.ceil(parts / n) * (per_partial * math.ceil(T / parts) + overhead) +
+                              per_partial * parts + overhead)
                 rec = max(waves * (line("reconstruct", rows) + overhead), (input_bytes + tile_bytes) / bandwidth)
                 assemble = max(math.ceil(F / frames_per_task / n) * (frames_per_task * per_frame + overhead),
                                (tile_bytes + input_bytes) / bandwidth)

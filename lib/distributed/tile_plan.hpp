@@ -2,7 +2,8 @@
 //
 // Filters whose stage is the low-rank stage (pca, error-threshold, auto --quality fast) are cut into
 // bands of full-width rows of every frame ("tiles"): statistics tasks write each tile's partial Gram,
-// one reduction sums them in tile order and makes the basis, reconstruction tasks rebuild their rows
+// one reduction sums them in tile order and makes the basis (past 32 bands, "sum" tasks first sum runs
+// of about sqrt(bands) partials and the reduction sums their sums), reconstruction tasks rebuild their rows
 // (reading the halo their stage declares) into tile files, assembly tasks write each output frame
 // once from the tiles (and an "images" task the rank map from the tiles' rows). A stage that is an analysis and frame windows (the hybrid's, and so
 // --quality balanced) runs its analysis in one task ("window" plans) and its frames in chunks, each

@@ -40,6 +40,7 @@ namespace fs = std::filesystem;
 struct Work {
     std::string dir;
     std::string partial(int64_t tile) const { return dir + "/partial-" + std::to_string(tile) + ".bin"; }
+    std::string sum(int64_t part) const { return dir + "/sum-" + std::to_string(part) + ".bin"; }
     std::string reduced() const { return dir + "/reduced.bin"; }
     std::string tile(int64_t tile) const { return dir + "/tile-" + std::to_string(tile) + ".f32"; }
     std::string rank_rows(int64_t tile) const { return dir + "/rank-" + std::to_string(tile) + ".bin"; }
@@ -143,11 +144,11 @@ void statistics_task(Run& run, const JsonValue& task) {
 
 // Sums the partials in tile order (each read once, by its tile's name: nothing counted twice) and
 // makes each group's basis once for every reconstruction.
-void reduce_task(Run& run, const JsonValue& task) {
-    const int64_t tiles = integer(task, "tiles", "task");
+// The statistics of the files, summed in the order given (the first one's frames and groups).
+TileStatistics sum_statistics(Run& run, const std::vector<std::string>& files) {
     TileStatistics total;
-    for (int64_t t = 0; t < tiles; ++t) {
-        const TileStatistics part = read_tile_statistics(run.work.partial(t));
+    for (size_t t = 0; t < files.size(); ++t) {
+        const TileStatistics part = read_tile_statistics(files[t]);
         run.bytes_read += tile_statistics_bytes(part);
         if (t == 0) {
             total = part;
@@ -155,13 +156,37 @@ void reduce_task(Run& run, const JsonValue& task) {
             total.repaired = 0;
         }
         if (part.frames != total.frames || part.groups.size() != total.groups.size())
-            throw Error(Status::InvalidArgument, "'" + run.work.partial(t) + "' does not match tile 0's frames and channel groups");
+            throw Error(Status::InvalidArgument, "'" + files[t] + "' does not match '" + files[0] + "' (frames, channel groups)");
         total.repaired += part.repaired;
         for (size_t g = 0; g < total.groups.size(); ++g) {
             total.groups[g].series += part.groups[g].series;
             for (size_t k = 0; k < total.groups[g].gram.size(); ++k) total.groups[g].gram[k] += part.groups[g].gram[k];
         }
     }
+    return total;
+}
+
+// A run of the partials, tiles [first, last), summed in band order (a reduction of many bands).
+void sum_task(Run& run, const JsonValue& task) {
+    const auto [first, last] = range(task, "tiles", "task");
+    if (!(0 <= first && first < last)) throw Error(Status::InvalidArgument, "a sum task's tiles are an empty range");
+    std::vector<std::string> files;
+    for (int64_t t = first; t < last; ++t) files.push_back(run.work.partial(t));
+    const TileStatistics total = sum_statistics(run, files);
+    const std::string out = run.work.sum(integer(task, "part", "task"));
+    write_tile_statistics(out, total);
+    run.bytes_written += tile_statistics_bytes(total);
+    run.outputs.push_back(out);
+}
+
+// Every partial (or, for many bands, every sum task's run of them) summed in order, and each channel
+// group's basis from the total.
+void reduce_task(Run& run, const JsonValue& task) {
+    const int64_t tiles = integer(task, "tiles", "task");
+    const int64_t sums = task.find("sums") ? integer(task, "sums", "task") : 0;
+    std::vector<std::string> files;
+    for (int64_t t = 0; t < (sums > 0 ? sums : tiles); ++t) files.push_back(sums > 0 ? run.work.sum(t) : run.work.partial(t));
+    TileStatistics total = sum_statistics(run, files);
     for (GroupStatistics& g : total.groups) g.basis = basis_from_gram(g.gram, total.frames, g.series);
     write_tile_statistics(run.work.reduced(), total);
     run.bytes_written += tile_statistics_bytes(total);
@@ -517,6 +542,7 @@ std::string run_plan_task(const JsonValue& plan, int64_t index, const TaskContex
                                                      : static_cast<double>(default_memory_budget());
     run.stage.progress = &context.progress;
     if (phase == "statistics") statistics_task(run, task);
+    else if (phase == "sum") sum_task(run, task);
     else if (phase == "reduce") reduce_task(run, task);
     else if (phase == "reconstruct") reconstruct_task(run, task);
     else if (phase == "assemble") assemble_task(run, task, index);

@@ -20,10 +20,10 @@ using namespace statfilter_test;
 namespace {
 
 // Noisy frames of a smooth image, RGB, frames 1..F, written as float EXRs.
-std::string write_shot(const TempDir& dir, int64_t frames = 8) {
+std::string write_shot(const TempDir& dir, int64_t frames = 8, int64_t height = 12) {
     std::mt19937 rng(7);
     std::normal_distribution<float> noise(0.0f, 0.2f);
-    Seq seq = filled_sequence(shape_of(frames, 12, 10, 3), [&](int64_t f, int64_t y, int64_t x, int64_t c) {
+    Seq seq = filled_sequence(shape_of(frames, height, 10, 3), [&](int64_t f, int64_t y, int64_t x, int64_t c) {
         return 1.0f + 0.1f * static_cast<float>(c) + 0.02f * static_cast<float>(x + y) + 0.01f * static_cast<float>(f) +
                noise(rng) * noise(rng);
     });
@@ -106,23 +106,29 @@ std::vector<PlanTask> plan_tasks(const std::string& text) {
     return tasks;
 }
 
+// pca (no firefly test) run on `in` as one process, into single.####.exr beside it, then planned in
+// bands of `tile_rows` (frames_per_task > 0: the assembly's chunks) into out.####.exr: the plan's path.
+std::string single_run_and_plan(const TempDir& dir, const std::string& in, int64_t tile_rows, int64_t frames_per_task) {
+    Filt single = pca_filter();
+    const sf_write_options wo = write_options(SF_PIXEL_FLOAT);
+    EXPECT_SF_OK(sf_filter_run(single.get(), in.c_str(), nullptr, dir.file("single.####.exr").c_str(), &wo, nullptr));
+    Filt filter = pca_filter();
+    sf_plan_options po;
+    sf_plan_options_init(&po);
+    po.tile_rows = tile_rows;
+    if (frames_per_task > 0) po.frames_per_task = frames_per_task;
+    const std::string plan = dir.file("plan.json");
+    EXPECT_SF_OK(sf_plan_write(filter.get(), in.c_str(), nullptr, dir.file("out.####.exr").c_str(), &wo, nullptr, &po,
+                               plan.c_str()));
+    return plan;
+}
+
 }  // namespace
 
 TEST(Plan, TasksInOrderGiveTheSingleRunOutput) {
     TempDir dir;
     const std::string in = write_shot(dir);
-    Filt single = pca_filter();
-    const sf_write_options wo = write_options(SF_PIXEL_FLOAT);
-    ASSERT_SF_OK(sf_filter_run(single.get(), in.c_str(), nullptr, dir.file("single.####.exr").c_str(), &wo, nullptr));
-
-    Filt filter = pca_filter();
-    sf_plan_options po;
-    sf_plan_options_init(&po);
-    po.tile_rows = 5;  // bands of 5, 5 and 2 rows
-    po.frames_per_task = 3;
-    const std::string plan = dir.file("plan.json");
-    ASSERT_SF_OK(sf_plan_write(filter.get(), in.c_str(), nullptr, dir.file("out.####.exr").c_str(), &wo, nullptr, &po,
-                               plan.c_str()));
+    const std::string plan = single_run_and_plan(dir, in, 5, 3);  // bands of 5, 5 and 2 rows
     EXPECT_FALSE(fs::exists(dir.file("out.0001.exr")));
     int64_t count = 0;
     ASSERT_SF_OK(sf_plan_task_count(plan.c_str(), &count));
@@ -131,6 +137,50 @@ TEST(Plan, TasksInOrderGiveTheSingleRunOutput) {
     EXPECT_EQ(samples_of(read_sequence(dir.file("out.####.exr")).get()),
               samples_of(read_sequence(dir.file("single.####.exr")).get()));
     EXPECT_TRUE(fs::exists(dir.file("plan.json.work/task-9.json")));
+}
+
+// Past 32 bands the partials are summed in runs ("sum" tasks) and the reduction sums the runs' sums:
+// the same Gram up to the order of the additions, so the single run's output within rounding.
+TEST(Plan, ManyBandsAreReducedThroughSumsOfRuns) {
+    TempDir dir;
+    const std::string in = write_shot(dir, 8, 40);
+    const std::string plan = single_run_and_plan(dir, in, 1, 0);  // 40 bands: 7 runs of 5 or 6 (sqrt(40) rounded up)
+    const std::vector<PlanTask> tasks = plan_tasks(read_text(plan));
+    std::vector<int64_t> sums;
+    int64_t reduce = -1, covered = 0;
+    for (const PlanTask& t : tasks) {
+        if (t.phase == "sum") {
+            sums.push_back(t.index);
+            // Each run waits for exactly its statistics tasks, contiguous, in band order.
+            std::istringstream after(t.after);
+            int64_t first = -1, k = 0, n = 0;
+            char comma;
+            while (after >> k) {
+                if (first < 0) first = k;
+                EXPECT_EQ(k, first + n);
+                ++n;
+                after >> comma;
+            }
+            EXPECT_EQ(first, covered);
+            covered += n;
+        }
+        if (t.phase == "reduce") reduce = t.index;
+    }
+    ASSERT_EQ(sums.size(), 7u);
+    EXPECT_EQ(covered, 40);
+    ASSERT_EQ(reduce, 47);
+    EXPECT_EQ(tasks[static_cast<size_t>(reduce)].after, "40, 41, 42, 43, 44, 45, 46");
+    // The reduction before its sums fails, naming what is missing, and writes nothing.
+    EXPECT_NE(sf_plan_run_task(plan.c_str(), reduce, nullptr), SF_OK);
+    EXPECT_NE(std::string(sf_last_error()).find("sum-0.bin"), std::string::npos) << sf_last_error();
+    int64_t count = 0;
+    ASSERT_SF_OK(sf_plan_task_count(plan.c_str(), &count));
+    for (int64_t t = 0; t < count; ++t) ASSERT_SF_OK(sf_plan_run_task(plan.c_str(), t, nullptr));
+    ASSERT_SF_OK(sf_plan_run_task(plan.c_str(), sums[3], nullptr));  // a rerun changes nothing
+    const std::vector<float> out = samples_of(read_sequence(dir.file("out.####.exr")).get());
+    const std::vector<float> want = samples_of(read_sequence(dir.file("single.####.exr")).get());
+    ASSERT_EQ(out.size(), want.size());
+    for (size_t i = 0; i < out.size(); ++i) ASSERT_NEAR(out[i], want[i], 1e-5 * std::fabs(want[i]) + 1e-6) << i;
 }
 
 // A half output without a colour conversion: the tiles hold the halves the writer will write (half the
