@@ -185,10 +185,17 @@ def measure_4k_tiles(work, cli):
         wdir = Path(p["work"])
         for t in range(1, tiles):
             shutil.copy(wdir / "partial-0.bin", wdir / f"partial-{t}.bin")
-        reduce_index = tiles
-        red = run_task(cli, plan, reduce_index)
-        rec = run_task(cli, plan, reduce_index + 1)
-        report = json.loads((wdir / f"task-{reduce_index + 1}.json").read_text())
+        # The cost of reading a partial: every sum task of the plan (a flat reduction when it has none)
+        # and its reduction, summed over the partials they read.
+        index = {ph: [t["index"] for t in p["tasks"] if t["phase"] == ph] for ph in ("sum", "reduce", "reconstruct")}
+        red = [0.0, 0.0]
+        for i in index["sum"] + index["reduce"]:
+            w, c = run_task(cli, plan, i)
+            red = [red[0] + w, red[1] + c]
+        reads = tiles + len(index["sum"])  # the partials, then the sums
+        red = [red[0] * tiles / reads, red[1] * tiles / reads]
+        rec = run_task(cli, plan, index["reconstruct"][0])
+        report = json.loads((wdir / f"task-{index['reconstruct'][0]}.json").read_text())
         costs["tiles"].append(dict(rows=rows, tiles=tiles, statistics=stat, reduce=red, reconstruct=rec,
                                    rank=report["results"].get("rank"), partial_bytes=(wdir / "partial-0.bin").stat().st_size))
         print(costs["tiles"][-1], flush=True)

@@ -40,7 +40,11 @@ namespace fs = std::filesystem;
 struct Work {
     std::string dir;
     std::string partial(int64_t tile) const { return dir + "/partial-" + std::to_string(tile) + ".bin"; }
-    std::string sum(int64_t part) const { return dir + "/sum-" + std::to_string(part) + ".bin"; }
+    // Named by their run of partials [first, last): a plan made again with other bands in the same
+    // directory never reads an old run as one of its own.
+    std::string sum(int64_t first, int64_t last) const {
+        return dir + "/sum-" + std::to_string(first) + "-" + std::to_string(last) + ".bin";
+    }
     std::string reduced() const { return dir + "/reduced.bin"; }
     std::string tile(int64_t tile) const { return dir + "/tile-" + std::to_string(tile) + ".f32"; }
     std::string rank_rows(int64_t tile) const { return dir + "/rank-" + std::to_string(tile) + ".bin"; }
@@ -142,9 +146,8 @@ void statistics_task(Run& run, const JsonValue& task) {
     run.outputs.push_back(run.work.partial(tile));
 }
 
-// Sums the partials in tile order (each read once, by its tile's name: nothing counted twice) and
-// makes each group's basis once for every reconstruction.
-// The statistics of the files, summed in the order given (the first one's frames and groups).
+// The statistics of the files, summed in the order given (the first one's frames and groups): each
+// partial is read once, by its tile's name, so nothing is counted twice.
 TileStatistics sum_statistics(Run& run, const std::vector<std::string>& files) {
     TileStatistics total;
     for (size_t t = 0; t < files.size(); ++t) {
@@ -173,19 +176,34 @@ void sum_task(Run& run, const JsonValue& task) {
     std::vector<std::string> files;
     for (int64_t t = first; t < last; ++t) files.push_back(run.work.partial(t));
     const TileStatistics total = sum_statistics(run, files);
-    const std::string out = run.work.sum(integer(task, "part", "task"));
+    const std::string out = run.work.sum(first, last);
     write_tile_statistics(out, total);
     run.bytes_written += tile_statistics_bytes(total);
     run.outputs.push_back(out);
 }
 
-// Every partial (or, for many bands, every sum task's run of them) summed in order, and each channel
-// group's basis from the total.
+// Every partial (or, for many bands, the runs' sums made by the sum tasks it waits for, which must
+// cover the tiles once, in order) summed in order, and each channel group's basis from the total,
+// made once for every reconstruction.
 void reduce_task(Run& run, const JsonValue& task) {
     const int64_t tiles = integer(task, "tiles", "task");
-    const int64_t sums = task.find("sums") ? integer(task, "sums", "task") : 0;
     std::vector<std::string> files;
-    for (int64_t t = 0; t < (sums > 0 ? sums : tiles); ++t) files.push_back(sums > 0 ? run.work.sum(t) : run.work.partial(t));
+    if (!task.find("sums")) {
+        for (int64_t t = 0; t < tiles; ++t) files.push_back(run.work.partial(t));
+    } else {
+        int64_t covered = 0;
+        for (const JsonValue& after : member(task, "after", "task").array()) {
+            const JsonValue& sum = run.plan.find("tasks")->array().at(static_cast<size_t>(after.number()));
+            const auto [first, last] = range(sum, "tiles", "sum task");
+            if (first != covered || last <= first)
+                throw Error(Status::InvalidArgument, "the reduction's sum tasks do not cover the tiles in order (was the plan edited?)");
+            files.push_back(run.work.sum(first, last));
+            covered = last;
+        }
+        if (covered != tiles || static_cast<int64_t>(files.size()) != integer(task, "sums", "task"))
+            throw Error(Status::InvalidArgument, "the reduction's sum tasks cover " + std::to_string(covered) + " of its " +
+                                                     std::to_string(tiles) + " tiles (was the plan edited?)");
+    }
     TileStatistics total = sum_statistics(run, files);
     for (GroupStatistics& g : total.groups) g.basis = basis_from_gram(g.gram, total.frames, g.series);
     write_tile_statistics(run.work.reduced(), total);

@@ -84,9 +84,11 @@ double LowRankStage::pass_bytes(const Shape& s, int64_t rank) const {
     const double stored = options_.per_pixel ? std::min<int64_t>(options_.max_rank, s.frames - 1) : rank;
     double bytes = stored * P * C * sizeof(float) + P * C * sizeof(double);  // coefficients and means
     if (options_.prep.keep_mean) bytes += P * C * (sizeof(double) + 1);      // linear means and signs
-    // energies (stored + 1 planes), the row sums box_mean pools each plane through, ranks
-    if (options_.per_pixel) bytes += (stored + 2) * P * sizeof(double) + P * sizeof(int64_t);
-    bytes += 2.0 * s.frames * s.frames * sizeof(double);                     // Gram and basis
+    // Each channel group's energies (stored + 1 planes) and ranks, all held at once; and the row sums
+    // box_mean pools one plane at a time through.
+    const auto groups = static_cast<double>(basis_groups(s, options_.shared_basis).size());
+    if (options_.per_pixel) bytes += groups * ((stored + 1) * P * sizeof(double) + P * sizeof(int64_t)) + P * sizeof(double);
+    bytes += groups * 2.0 * s.frames * s.frames * sizeof(double);            // Gram and basis
     return bytes;
 }
 
@@ -96,10 +98,11 @@ double LowRankStage::emission_bytes(const Shape& s, int64_t rank, int threads) c
     double bytes = stored * P * C * sizeof(float) + P * C * sizeof(double);
     // The corrections are solved while the linear means are still held.
     if (options_.prep.keep_mean) bytes += P * C * (sizeof(double) + 1 + sizeof(MeanCorrection));
-    if (options_.per_pixel) bytes += P * (sizeof(int64_t) + sizeof(float));
+    const auto groups = static_cast<double>(basis_groups(s, options_.shared_basis).size());
+    if (options_.per_pixel) bytes += groups * P * sizeof(int64_t) + P * sizeof(float);
     const double chunk = std::min<double>(kRebuildChunk, P * C);
     bytes += threads * (P * C * sizeof(float) + chunk * sizeof(double));  // a frame being rebuilt per thread
-    bytes += 2.0 * s.frames * s.frames * sizeof(double);
+    bytes += groups * 2.0 * s.frames * s.frames * sizeof(double);
     return bytes;
 }
 

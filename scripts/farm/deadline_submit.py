@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
-"""Submits a statfilter plan to Thinkbox Deadline: one CommandLine job per phase (statistics, reduce,
-reconstruct, assemble; or frames; or shot), its frames the plan's task numbers (chunk size 1), each
+"""Submits a statfilter plan to Thinkbox Deadline: one CommandLine job per phase (statistics, sum,
+reduce, reconstruct, assemble; or frames; or shot), its frames the plan's task numbers (chunk size 1), each
 job depending on the job of the phase before it. Every frame runs `statfilter task PLAN N`; Deadline's
 task requeue reruns a task that died (tasks are idempotent).
 

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Submits a statfilter plan to OpenCue: one layer per phase (statistics, reduce, reconstruct,
+"""Submits a statfilter plan to OpenCue: one layer per phase (statistics, sum, reduce, reconstruct,
 assemble; or frames; or shot), its "frames" the plan's task numbers, each layer depending on the whole
 layer before it. Every frame runs `statfilter task PLAN N`; OpenCue's retries rerun a frame that died
 (tasks are idempotent).

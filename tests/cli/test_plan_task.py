@@ -225,6 +225,13 @@ def test_farm_submission_scripts_lay_the_phases_out(sample_noisy, tmp_path):
                               text=True, check=True).stdout
     assert deadline.count("Plugin=CommandLine") == 4 and deadline.count("JobDependencies=") == 3
     assert "<STARTFRAME>" in deadline
+    # The rank map's task waits for the reconstructions, two phases back: still a chain of phases.
+    ranks = tmp_path / "ranks.plan.json"
+    run("plan", sample_noisy, tmp_path / "r.####.exr", "--method", "error-threshold", "--tiles", "3", "--save",
+        f"rank_map={tmp_path / 'ranks.exr'}", "-o", ranks, "--quiet")
+    cue = subprocess.run([sys.executable, farm / "opencue_submit.py", ranks, "--dry-run"], capture_output=True, text=True,
+                         check=True).stdout.splitlines()
+    assert [line.split()[1] for line in cue] == ["statistics", "reduce", "reconstruct", "assemble", "images"]
 
 
 def _mask_bytes(path):

@@ -143,8 +143,8 @@ TEST(Plan, TasksInOrderGiveTheSingleRunOutput) {
 // the same Gram up to the order of the additions, so the single run's output within rounding.
 TEST(Plan, ManyBandsAreReducedThroughSumsOfRuns) {
     TempDir dir;
-    const std::string in = write_shot(dir, 8, 40);
-    const std::string plan = single_run_and_plan(dir, in, 1, 0);  // 40 bands: 7 runs of 5 or 6 (sqrt(40) rounded up)
+    const std::string in = write_shot(dir, 8, 70);
+    const std::string plan = single_run_and_plan(dir, in, 2, 0);  // 35 bands: 6 runs (sqrt(35) rounded up)
     const std::vector<PlanTask> tasks = plan_tasks(read_text(plan));
     std::vector<int64_t> sums;
     int64_t reduce = -1, covered = 0;
@@ -166,21 +166,38 @@ TEST(Plan, ManyBandsAreReducedThroughSumsOfRuns) {
         }
         if (t.phase == "reduce") reduce = t.index;
     }
-    ASSERT_EQ(sums.size(), 7u);
-    EXPECT_EQ(covered, 40);
-    ASSERT_EQ(reduce, 47);
-    EXPECT_EQ(tasks[static_cast<size_t>(reduce)].after, "40, 41, 42, 43, 44, 45, 46");
+    ASSERT_EQ(sums.size(), 6u);
+    EXPECT_EQ(covered, 35);
+    ASSERT_EQ(reduce, 41);
+    EXPECT_EQ(tasks[static_cast<size_t>(reduce)].after, "35, 36, 37, 38, 39, 40");
     // The reduction before its sums fails, naming what is missing, and writes nothing.
+    const std::string reduced = dir.file("plan.json.work/reduced.bin");
     EXPECT_NE(sf_plan_run_task(plan.c_str(), reduce, nullptr), SF_OK);
-    EXPECT_NE(std::string(sf_last_error()).find("sum-0.bin"), std::string::npos) << sf_last_error();
+    EXPECT_NE(std::string(sf_last_error()).find("sum-0-5.bin"), std::string::npos) << sf_last_error();
+    EXPECT_FALSE(fs::exists(reduced));
     int64_t count = 0;
     ASSERT_SF_OK(sf_plan_task_count(plan.c_str(), &count));
     for (int64_t t = 0; t < count; ++t) ASSERT_SF_OK(sf_plan_run_task(plan.c_str(), t, nullptr));
-    ASSERT_SF_OK(sf_plan_run_task(plan.c_str(), sums[3], nullptr));  // a rerun changes nothing
     const std::vector<float> out = samples_of(read_sequence(dir.file("out.####.exr")).get());
     const std::vector<float> want = samples_of(read_sequence(dir.file("single.####.exr")).get());
     ASSERT_EQ(out.size(), want.size());
     for (size_t i = 0; i < out.size(); ++i) ASSERT_NEAR(out[i], want[i], 1e-5 * std::fabs(want[i]) + 1e-6) << i;
+    // A sum run again rewrites the same bytes.
+    const std::string run3 = dir.file("plan.json.work/sum-17-23.bin"), before = read_text(run3);
+    ASSERT_FALSE(before.empty());
+    ASSERT_SF_OK(sf_plan_run_task(plan.c_str(), sums[3], nullptr));
+    EXPECT_EQ(read_text(run3), before);
+    // The plan made again in the same place with other bands (70, 9 runs): its reduction never takes the
+    // old runs' sums for its own.
+    Filt filter = pca_filter();
+    sf_plan_options po;
+    sf_plan_options_init(&po);
+    po.tile_rows = 1;
+    const sf_write_options wo = write_options(SF_PIXEL_FLOAT);
+    ASSERT_SF_OK(sf_plan_write(filter.get(), in.c_str(), nullptr, dir.file("out.####.exr").c_str(), &wo, nullptr, &po,
+                               plan.c_str()));
+    EXPECT_NE(sf_plan_run_task(plan.c_str(), 70 + 9, nullptr), SF_OK);
+    EXPECT_NE(std::string(sf_last_error()).find("sum-0-7.bin"), std::string::npos) << sf_last_error();
 }
 
 // A half output without a colour conversion: the tiles hold the halves the writer will write (half the

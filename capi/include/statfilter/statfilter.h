@@ -352,7 +352,8 @@ SF_API void sf_plan_options_init(sf_plan_options* options);
  * output_pattern as sf_filter_run would, for any scheduler to run with sf_plan_run_task. A filter
  * whose stage is the global low-rank one (pca, error-threshold, auto with quality=fast, no prefilter
  * or postfilter) is cut into bands of rows of every frame: "statistics" tasks (one per band: its
- * partial Gram), one "reduce" task after them all (sums the partials in band order, makes the basis),
+ * partial Gram), one "reduce" task after them all (sums the partials in band order, makes the basis;
+ * past 32 bands "sum" tasks first sum contiguous runs of them, and the reduction waits for those),
  * "reconstruct" tasks after it (one per band, reading its halo rows too), then "assemble" tasks (each
  * writes its chunk of output frames from the bands). A per-frame filter is cut into chunks of frames
  * ("frames" tasks, independent). Any other filter is one "shot" task. Each task lists the tasks it
