@@ -84,10 +84,10 @@ int64_t add_reduction(std::vector<Task>& tasks, const std::vector<int64_t>& stat
     for (int64_t k = 0; k < parts; ++k) {
         const int64_t first = k * tiles / parts, last = (k + 1) * tiles / parts;
         sums.push_back(static_cast<int64_t>(tasks.size()));
-        tasks.push_back({"sum", "\"part\": " + std::to_string(k) + ", \"tiles\": " + range_json(first, last),
+        tasks.push_back({"sum", "\"tiles\": " + range_json(first, last),
                          std::vector<int64_t>(statistics.begin() + first, statistics.begin() + last)});
     }
-    tasks.push_back({"reduce", "\"tiles\": " + std::to_string(tiles) + ", \"sums\": " + std::to_string(parts), sums});
+    tasks.push_back({"reduce", "\"tiles\": " + std::to_string(tiles), sums});
     return static_cast<int64_t>(tasks.size()) - 1;
 }
 

@@ -187,23 +187,25 @@ void sum_task(Run& run, const JsonValue& task) {
 // made once for every reconstruction.
 void reduce_task(Run& run, const JsonValue& task) {
     const int64_t tiles = integer(task, "tiles", "task");
-    std::vector<std::string> files;
-    if (!task.find("sums")) {
-        for (int64_t t = 0; t < tiles; ++t) files.push_back(run.work.partial(t));
-    } else {
-        int64_t covered = 0;
-        for (const JsonValue& after : member(task, "after", "task").array()) {
-            const JsonValue& sum = run.plan.find("tasks")->array().at(static_cast<size_t>(after.number()));
-            const auto [first, last] = range(sum, "tiles", "sum task");
-            if (first != covered || last <= first)
-                throw Error(Status::InvalidArgument, "the reduction's sum tasks do not cover the tiles in order (was the plan edited?)");
-            files.push_back(run.work.sum(first, last));
-            covered = last;
-        }
-        if (covered != tiles || static_cast<int64_t>(files.size()) != integer(task, "sums", "task"))
-            throw Error(Status::InvalidArgument, "the reduction's sum tasks cover " + std::to_string(covered) + " of its " +
-                                                     std::to_string(tiles) + " tiles (was the plan edited?)");
+    std::vector<const JsonValue*> sums;  // the sum tasks it waits for, if it waits for any
+    for (const JsonValue& after : member(task, "after", "task").array()) {
+        const JsonValue& waited = run.plan.find("tasks")->array().at(static_cast<size_t>(after.number()));
+        if (member(waited, "phase", "task").string() == "sum") sums.push_back(&waited);
     }
+    std::vector<std::string> files;
+    if (sums.empty())
+        for (int64_t t = 0; t < tiles; ++t) files.push_back(run.work.partial(t));
+    int64_t covered = 0;
+    for (const JsonValue* sum : sums) {
+        const auto [first, last] = range(*sum, "tiles", "sum task");
+        if (first != covered || last <= first)
+            throw Error(Status::InvalidArgument, "the reduction's sum tasks do not cover the tiles in order (was the plan edited?)");
+        files.push_back(run.work.sum(first, last));
+        covered = last;
+    }
+    if (!sums.empty() && covered != tiles)
+        throw Error(Status::InvalidArgument, "the reduction's sum tasks cover " + std::to_string(covered) + " of its " +
+                                                 std::to_string(tiles) + " tiles (was the plan edited?)");
     TileStatistics total = sum_statistics(run, files);
     for (GroupStatistics& g : total.groups) g.basis = basis_from_gram(g.gram, total.frames, g.series);
     write_tile_statistics(run.work.reduced(), total);
