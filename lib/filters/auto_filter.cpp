@@ -391,7 +391,7 @@ public:
         ParamSet pca = create_filter("pca")->params();
         for (const char* name : {"nonfinite", "shared_basis", "memory_mb"}) pca.set_string(name, params().get_string(name));
         pca.set_string("transform", fast_transform());
-        return std::make_unique<AnnotatedStage>(std::make_unique<LowRankStage>(low_rank_options(pca, false)), fast_choice(),
+        return std::make_unique<AnnotatedStage>(std::make_unique<LowRankStage>(low_rank_options(pca, LowRankModel::Global)), fast_choice(),
                                                 fast_transform(), !temporal_sees_prefilter(frame_stage_params()));
     }
     // quality high where OIDN can run and the preset streams: OIDN as a prefilter (at its defaults, run

@@ -13,7 +13,7 @@ namespace {
 
 class ErrorThresholdFilter final : public LowRankFilter {
 public:
-    ErrorThresholdFilter() : LowRankFilter(make_params(), true) { declare_image_result("rank_map"); }
+    ErrorThresholdFilter() : LowRankFilter(make_params(), LowRankModel::PerPixel) { declare_image_result("rank_map"); }
 
     static std::vector<ParamSpec> make_params() {
         std::vector<ParamSpec> p = {

@@ -31,7 +31,7 @@ constexpr const char* kShared[] = {"transform", "transform_scale", "firefly_z", 
 LowRankOptions sub_filter_options(const std::string& name, const ParamSet& from) {
     ParamSet p = create_filter(name)->params();
     for (const char* shared : kShared) p.set_string(shared, from.get_string(shared));
-    return low_rank_options(p, name == "error-threshold");
+    return low_rank_options(p, name == "error-threshold" ? LowRankModel::PerPixel : LowRankModel::Global);
 }
 
 // A progress callback reporting [0, 1] into [start, start + span] of `outer`.

@@ -1,4 +1,5 @@
-// The filters whose work is the streamed low-rank stage (pca; error-threshold with per-pixel ranks):
+// The filters whose work is the streamed low-rank stage (pca; error-threshold with per-pixel ranks;
+// moving-basis):
 // the stage made from the parameters, its footprint, and the in-memory run through the same stage,
 // written once for both.
 #pragma once
@@ -13,11 +14,10 @@ namespace statfilter {
 
 class LowRankFilter : public Filter {
 public:
-    LowRankFilter(std::vector<ParamSpec> params, bool per_pixel_ranks)
-        : Filter(std::move(params)), per_pixel_ranks_(per_pixel_ranks) {}
+    LowRankFilter(std::vector<ParamSpec> params, LowRankModel model) : Filter(std::move(params)), model_(model) {}
 
     std::unique_ptr<StreamStage> stream_stage() const override {
-        return std::make_unique<LowRankStage>(low_rank_options(params(), per_pixel_ranks_));
+        return std::make_unique<LowRankStage>(low_rank_options(params(), model_));
     }
     Footprint footprint() const override { return stream_stage()->footprint(); }
     double resident_copies() const override { return 0; }  // pixel tiles and K coefficient images
@@ -29,7 +29,7 @@ protected:
     }
 
 private:
-    bool per_pixel_ranks_;
+    LowRankModel model_;
 };
 
 }  // namespace statfilter

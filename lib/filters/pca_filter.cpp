@@ -10,7 +10,7 @@ namespace {
 
 class PcaFilter final : public LowRankFilter {
 public:
-    PcaFilter() : LowRankFilter(make_params(), false) {}
+    PcaFilter() : LowRankFilter(make_params(), LowRankModel::Global) {}
 
     static std::vector<ParamSpec> make_params() {
         std::vector<ParamSpec> p = {rank_param("auto"), energy_param()};

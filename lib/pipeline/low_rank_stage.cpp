@@ -75,11 +75,17 @@ Footprint LowRankStage::footprint() const {
 }
 
 double LowRankStage::band_row_bytes(const Shape& s) const {
-    // The band in float plus its prepared double tile (PreparedSeries keeps one tile at a time).
-    return static_cast<double>(s.frames) * s.width * s.channels * (sizeof(float) + sizeof(double));
+    // The band in float plus its prepared double tile (PreparedSeries keeps one tile at a time); the
+    // moving basis also its rebuilt rows, in float.
+    const double samples = static_cast<double>(s.frames) * s.width * s.channels;
+    return samples * (sizeof(float) + sizeof(double) + (moving() ? sizeof(float) : 0));
 }
 
 double LowRankStage::pass_bytes(const Shape& s, int64_t rank) const {
+    // The moving basis holds no coefficients: each group's Gram, the copy its windows read, its
+    // operator and the plan's basis.
+    const auto group_count = static_cast<double>(basis_groups(s, options_.shared_basis).size());
+    if (moving()) return group_count * 4.0 * s.frames * s.frames * sizeof(double);
     const double P = static_cast<double>(s.pixels()), C = static_cast<double>(s.channels);
     const double stored = options_.per_pixel ? std::min<int64_t>(options_.max_rank, s.frames - 1) : rank;
     double bytes = stored * P * C * sizeof(float) + P * C * sizeof(double);  // coefficients and means
@@ -94,6 +100,7 @@ double LowRankStage::pass_bytes(const Shape& s, int64_t rank) const {
 
 double LowRankStage::emission_bytes(const Shape& s, int64_t rank, int threads) const {
     const double P = static_cast<double>(s.pixels()), C = static_cast<double>(s.channels);
+    if (moving()) return pass_bytes(s, 0) + threads * P * C * sizeof(float);  // a frame read back per thread
     const double stored = options_.per_pixel ? std::min<int64_t>(options_.max_rank, s.frames - 1) : rank;
     double bytes = stored * P * C * sizeof(float) + P * C * sizeof(double);
     // The corrections are solved while the linear means are still held.
@@ -111,7 +118,7 @@ double LowRankStage::held_bytes(const Shape& s, int64_t rank, int threads, int64
 }
 
 double LowRankStage::min_bytes(const Shape& s, int threads) const {
-    const int64_t rank = options_.per_pixel ? options_.max_rank : options_.known_rank;
+    const int64_t rank = options_.per_pixel ? options_.max_rank : moving() ? 0 : options_.known_rank;
     return held_bytes(s, std::min<int64_t>(rank, std::max<int64_t>(s.frames - 1, 0)), threads, 1);
 }
 
@@ -147,7 +154,7 @@ LowRankStatistics LowRankStage::statistics(const FrameSource& source, const Stag
     // Band height: the whole shot when it is in memory, else as many rows as the budget leaves. A
     // single band (the shot fits) is kept, with its prepared tiles, for the second pass: one read.
     const bool in_memory = source.in_memory() != nullptr;
-    const int64_t bound_rank = options_.per_pixel ? options_.max_rank : options_.known_rank;
+    const int64_t bound_rank = options_.per_pixel ? options_.max_rank : moving() ? 0 : options_.known_rank;
     const double fixed = pass_bytes(s, std::min<int64_t>(bound_rank, std::max<int64_t>(F - 1, 0)));
     const auto fit_rows = static_cast<int64_t>((ctx.budget_bytes - fixed) / band_row_bytes(s));
     const int64_t rows = in_memory ? s.height : std::max<int64_t>(1, std::min(s.height, fit_rows));
@@ -228,6 +235,7 @@ PreparedSeries& LowRankStatistics::series(size_t g, const Sequence& band, int64_
 
 void LowRankStage::reconstruct(const FrameSource& source, LowRankStatistics stats, const FrameConsumer& consume,
                                const StageContext& ctx, Results& results) const {
+    if (moving()) return reconstruct_moving(source, std::move(stats), consume, ctx, results);
     const Shape& s = source.shape();
     const int64_t F = s.frames;
     const Progress none;
@@ -446,8 +454,9 @@ void LowRankStage::reconstruct(const FrameSource& source, LowRankStatistics stat
     results.set("nonfinite_repaired", static_cast<double>(repaired));
 }
 
-LowRankOptions low_rank_options(const ParamSet& params, bool per_pixel) {
+LowRankOptions low_rank_options(const ParamSet& params, LowRankModel model) {
     const TemporalSetup setup = temporal_setup(params);
+    const bool per_pixel = model == LowRankModel::PerPixel;
     LowRankOptions o;
     o.prep = setup.prep;
     o.nonfinite = setup.nonfinite;
@@ -465,6 +474,12 @@ LowRankOptions low_rank_options(const ParamSet& params, bool per_pixel) {
         o.report_noise = params.get_string("rank") == "auto";
         int64_t fixed = 0;
         if (params.get_integer_choice("rank", fixed)) o.known_rank = fixed;
+    }
+    if (model == LowRankModel::Moving) {
+        o.moving.half_width = params.get_int("half_width");
+        o.moving.sigma = params.get_float("sigma");
+        o.moving.weights = parse_window_weights(params.get_string("weights"));
+        o.report_noise = false;
     }
     return o;
 }

@@ -1,16 +1,20 @@
-// Global temporal PCA (rank fixed, by energy or automatic) and the study's error threshold method
-// (per-pixel ranks), as a stage that streams: a statistics pass over bands of scanlines of every
+// Global temporal PCA (rank fixed, by energy or automatic), the study's error threshold method
+// (per-pixel ranks) and the moving basis (a PCA of the frames around each frame), as a stage that
+// streams: a statistics pass over bands of scanlines of every
 // frame accumulates the F x F Gram; a second pass over the bands projects every series onto the
 // basis and keeps its coefficients (K images) and mean; then each frame is rebuilt on its own,
 // x_t = mu + sum_i V[t, i] a_i, and handed on as soon as it is final. Memory is the band (set by the
 // budget) plus K + 1 coefficient images, never the shot. In memory the band is the whole shot and
-// the passes read it in place.
+// the passes read it in place. The moving basis shares the statistics pass (its operator is made
+// from the same Gram); its second pass applies the operator band by band and parks the rebuilt rows
+// (in memory when one band holds the shot, else in a scratch file) until every band is done.
 #pragma once
 #include <cstdint>
 #include <functional>
 #include <memory>
 #include <vector>
 
+#include "pipeline/moving_basis_operator.hpp"
 #include "pipeline/stage.hpp"
 #include "statfilter/nonfinite.hpp"
 #include "statfilter/params.hpp"
@@ -33,6 +37,8 @@ struct LowRankOptions {
     int64_t max_rank = 8;
     double threshold = 2;
     int window = 9;
+    // The moving basis instead of one basis (half_width > 0); its windows' ranks by `rank`.
+    MovingWindow moving;
     // Each channel group's transform scale, measured once on the whole shot by a plan of tile tasks
     // (transform_scales); empty = measured by the statistics pass on its own source.
     std::vector<double> scales;
@@ -110,10 +116,19 @@ public:
     double band_row_bytes(const Shape& shape) const;
 
 private:
+    bool moving() const { return options_.moving.half_width > 0; }
+    // reconstruct, for the moving basis (pipeline/moving_basis_reconstruction.cpp).
+    void reconstruct_moving(const FrameSource& source, LowRankStatistics statistics, const FrameConsumer& consume,
+                            const StageContext& context, Results& results) const;
+
     LowRankOptions options_;
 };
 
-// The typed options of the pca and error-threshold filters, from their parameter tables.
-LowRankOptions low_rank_options(const ParamSet& params, bool per_pixel);
+// Which model the stage makes: one basis with a global rank (pca), per-pixel ranks
+// (error-threshold), or a basis per window of frames (moving-basis).
+enum class LowRankModel { Global, PerPixel, Moving };
+
+// The typed options of the pca, error-threshold and moving-basis filters, from their parameter tables.
+LowRankOptions low_rank_options(const ParamSet& params, LowRankModel model);
 
 }  // namespace statfilter

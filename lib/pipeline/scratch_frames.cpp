@@ -45,9 +45,11 @@ void ScratchFrames::read_rows(int64_t f, int64_t y0, int64_t y1, float* dst) con
         for (int64_t c = 0; c < shape_.channels; ++c) dst[p * shape_.channels + c] *= gain_[static_cast<size_t>(c)];
 }
 
-void ScratchFrames::write_frame(int64_t f, const float* pixels) {
-    const int64_t bytes = shape_.pixels() * shape_.channels * static_cast<int64_t>(sizeof(float));
-    write_at(fd_, pixels, static_cast<size_t>(bytes), f * bytes, kWhat, kHint);
+void ScratchFrames::write_frame(int64_t f, const float* pixels) { write_rows(f, 0, shape_.height, pixels); }
+
+void ScratchFrames::write_rows(int64_t f, int64_t y0, int64_t y1, const float* rows) {
+    const int64_t row = shape_.width * shape_.channels * static_cast<int64_t>(sizeof(float));
+    write_at(fd_, rows, static_cast<size_t>((y1 - y0) * row), (f * shape_.height + y0) * row, kWhat, kHint);
 }
 
 }  // namespace statfilter

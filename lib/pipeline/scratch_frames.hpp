@@ -22,6 +22,8 @@ public:
     void read_rows(int64_t f, int64_t y0, int64_t y1, float* dst) const override;
     // Frame index f, contiguous (row, pixel, channel). Safe from several threads for different frames.
     void write_frame(int64_t f, const float* pixels);
+    // Rows [y0, y1) of frame f, contiguous (a band's rows of one frame).
+    void write_rows(int64_t f, int64_t y0, int64_t y1, const float* rows);
     // Every frame read back from now on with channel c times gain[c] (a prefilter's light restored
     // once the whole shot's is known); empty = as written.
     void set_gain(std::vector<float> gain) { gain_ = std::move(gain); }

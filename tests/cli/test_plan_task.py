@@ -18,6 +18,8 @@ CASES = [
     (["--method", "pca"], ["--tiles", "3"], "tiles", False),
     (["--method", "error-threshold", "--firefly-z", "0"], ["--tile-rows", "16"], "tiles", True),
     (["--quality", "fast"], ["--tiles", "4"], "tiles", False),
+    (["--method", "moving-basis", "--firefly-z", "0"], ["--tiles", "5"], "tiles", True),
+    (["--method", "moving-basis", "--weights", "basis", "--half_width", "3"], ["--tiles", "3"], "tiles", False),
     (["--method", "copy"], ["--frames-per-task", "5"], "frames", True),
     (["--method", "diffusion"], [], "frames", True),
     (["--quality", "balanced"], [], "window", True),

@@ -114,6 +114,8 @@ const std::vector<std::pair<std::string, std::vector<std::pair<std::string, std:
     {"auto", {{"quality", "fast"}}},
     {"error-threshold", {}},
     {"error-threshold", {{"postfilter", "diffusion"}, {"postfilter_params", "iterations=3,k=3"}}},
+    {"moving-basis", {}},
+    {"moving-basis", {{"weights", "basis"}, {"rank", "2"}, {"half_width", "3"}, {"shared_basis", "0"}}},
 };
 
 }  // namespace
@@ -128,7 +130,8 @@ TEST(Streaming, StreamedEqualsInMemoryAtABudgetThatForcesManyBands) {
         ASSERT_EQ(probe.status, SF_OK) << what << ": " << probe.message;
         EXPECT_EQ(probe.streamed, 1.0) << what;
         // At the default budget the shot is one band, read once and kept for the second pass.
-        if (name == "pca" || name == "error-threshold") {
+        const bool low_rank = name == "pca" || name == "error-threshold" || name == "moving-basis";
+        if (low_rank) {
             EXPECT_EQ(probe.bands, 1) << what;
         }
         expect_close(samples_of(read_sequence(shot.dir.file("probe.####.exr")).get()), expected,
@@ -139,7 +142,7 @@ TEST(Streaming, StreamedEqualsInMemoryAtABudgetThatForcesManyBands) {
         const double component = 8.0 * shot.shape.height * shot.shape.width * shot.shape.channels;  // a rank above 1
         const RunResult r = run_files(name, params, shot.in, out, static_cast<int64_t>(probe.needed + 2 * row + 4 * component));
         ASSERT_EQ(r.status, SF_OK) << what << ": " << r.message;
-        if (name == "pca" || name == "error-threshold") {
+        if (low_rank) {
             EXPECT_GE(r.bands, 4) << what;
         }
         if (name == "auto") {
@@ -243,7 +246,7 @@ TEST(Streaming, ShippedSampleStreamedEqualsInMemory) {
 
 TEST(Streaming, FiltersThatNeedTheShotRunInMemoryThroughTheSameCall) {
     Shot shot;
-    for (const char* method : {"moving-basis"}) {
+    for (const char* method : {"motion"}) {
         const std::vector<float> expected = in_memory(shot, method, {});
         const std::string out = shot.dir.file(std::string(method) + ".####.exr");
         const RunResult r = run_files(method, {}, shot.in, out);
@@ -275,7 +278,7 @@ TEST(Streaming, EveryCheckHappensBeforeTheFirstPixel) {
          "zip", SF_ERROR_INVALID_ARGUMENT, "postfilter_params"},
         {"temporal prefilter", "pca", {{"prefilter", "pca"}}, out, 0, "zip", SF_ERROR_INVALID_ARGUMENT, "temporal"},
         {"budget too small (streamed)", "pca", {}, out, 4096, "zip", SF_ERROR_OUT_OF_MEMORY, "--memory"},
-        {"budget too small (in memory)", "moving-basis", {}, out, 4096, "zip", SF_ERROR_OUT_OF_MEMORY, "in memory"},
+        {"budget too small (in memory)", "motion", {}, out, 4096, "zip", SF_ERROR_OUT_OF_MEMORY, "in memory"},
         {"budget too small (balanced)", "auto", {}, out, 4096, "zip", SF_ERROR_OUT_OF_MEMORY, "--memory"},
     };
     for (const Case& c : cases) {

@@ -4,7 +4,7 @@
 #include <opencv2/core.hpp>
 
 #include "filter_runner.hpp"
-#include "filters/moving_basis.hpp"
+#include "pipeline/moving_basis_operator.hpp"
 #include "synthetic.hpp"
 
 using namespace statfilter;
