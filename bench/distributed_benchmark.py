@@ -182,7 +182,7 @@ def measure_4k_tiles(work, cli):
         p = json.loads(plan.read_text())
         tiles = len([t for t in p["tasks"] if t["phase"] == "statistics"])
         stat = run_task(cli, plan, 0)
-        wdir = Path(p["work"])
+        wdir = Path(p["work"]) / p.get("run", "")
         for t in range(1, tiles):
             shutil.copy(wdir / "partial-0.bin", wdir / f"partial-{t}.bin")
         # The cost of reading a partial: every sum task of the plan (a flat reduction when it has none)

@@ -8,6 +8,7 @@
 
 #include "api_guard.hpp"
 #include "distributed/detect_plan.hpp"
+#include "distributed/plan_json.hpp"
 #include "distributed/tile_files.hpp"
 #include "distributed/tile_plan.hpp"
 #include "options.hpp"
@@ -219,8 +220,9 @@ void write_detect_plan(sf_filter filter, const char* denoised_pattern, const cha
     request.budget_bytes = static_cast<double>(r.memory);
     request.threads = r.threads;
     request.front_end = front_end_json(handle.name, *handle.filter, ro_c, wo_c);
-    const std::string text = make_detect_plan(*handle.filter, *source, noisy_source.get(), request);
-    fs::create_directories(request.work_dir);
+    std::string plan_run;
+    const std::string text = name_plan_run(make_detect_plan(*handle.filter, *source, noisy_source.get(), request), &plan_run);
+    fs::create_directories(request.work_dir + "/" + plan_run);
     AtomicFile file(path);
     file.write_at(0, text.data(), text.size());
     file.commit();
@@ -275,8 +277,9 @@ sf_status sf_plan_write(sf_filter filter, const char* input_pattern, const sf_re
         request.budget_bytes = static_cast<double>(r.memory);
         request.threads = r.threads;
         request.front_end = front_end_json(handle.name, *handle.filter, ro_c, wo_c);
-        const std::string text = make_plan(*handle.filter, *source, request);
-        fs::create_directories(request.work_dir);
+        std::string plan_run;
+        const std::string text = name_plan_run(make_plan(*handle.filter, *source, request), &plan_run);
+        fs::create_directories(request.work_dir + "/" + plan_run);
         AtomicFile file(path);
         file.write_at(0, text.data(), text.size());
         file.commit();

@@ -352,7 +352,7 @@ std::string run_detect_task(const JsonValue& plan, int64_t index, const TaskCont
     const auto start = std::chrono::steady_clock::now();
     const double cpu0 = cpu_seconds();
     if (!context.filter || !context.source) throw Error(Status::Internal, "a detect task without its filter or input");
-    Run run{plan, context, Work{member(plan, "work", "the plan").string()}, {}, {}, 0, 0, {}, {}};
+    Run run{plan, context, Work{plan_files_dir(plan)}, {}, {}, 0, 0, {}, {}};
     fs::create_directories(run.work.dir);
     const int threads = resolve_threads(context.threads > 0 ? context.threads : static_cast<int>(integer(plan, "threads", "the plan")));
     const ThreadLimit limit(threads);

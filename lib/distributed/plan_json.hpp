@@ -4,9 +4,28 @@
 #include <string>
 #include <vector>
 
+#include "statfilter/error.hpp"
+
 namespace statfilter {
 
 inline std::string range_json(int64_t a, int64_t b) { return "[" + std::to_string(a) + ", " + std::to_string(b) + "]"; }
+
+// The plan's text with its run named: "run": "run-" and 16 hex digits of a hash of the text, after
+// its "work" line. The same request on the same frames makes the same plan, so the same run (a
+// task run again finds its files); anything else makes another. Returns the run through `run`.
+inline std::string name_plan_run(const std::string& text, std::string* run) {
+    uint64_t h = 1469598103934665603ull;  // FNV-1a, 64 bits: stable across builds and hosts
+    for (unsigned char c : text) h = (h ^ c) * 1099511628211ull;
+    static const char digits[] = "0123456789abcdef";
+    std::string name = "run-";
+    for (int shift = 60; shift >= 0; shift -= 4) name += digits[(h >> shift) & 15];
+    const std::string key = "\n  \"work\": ";
+    const size_t line = text.find(key);
+    const size_t end = line == std::string::npos ? std::string::npos : text.find('\n', line + 1);
+    if (end == std::string::npos) throw Error(Status::Internal, "a plan without a work directory line");
+    if (run) *run = name;
+    return text.substr(0, end + 1) + "  \"run\": \"" + name + "\",\n" + text.substr(end + 1);
+}
 
 inline std::string list_json(const std::vector<int64_t>& v) {
     std::string s = "[";

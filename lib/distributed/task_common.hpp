@@ -30,6 +30,16 @@ inline std::pair<int64_t, int64_t> range(const JsonValue& object, const std::str
     return {static_cast<int64_t>(v.array()[0].number()), static_cast<int64_t>(v.array()[1].number())};
 }
 
+// Where a plan's tasks keep their files: the plan's work directory, then its run (a name made from
+// the plan's own text when it was written): a plan made with other options or frames in the same
+// work directory has another run, so none of its tasks ever reads an earlier plan's file. A plan
+// without a run (written before runs were named) keeps them in the work directory itself.
+inline std::string plan_files_dir(const JsonValue& plan) {
+    const std::string& work = member(plan, "work", "the plan").string();
+    const JsonValue* run = plan.find("run");
+    return run ? work + "/" + run->string() : work;
+}
+
 inline double cpu_seconds() {
     rusage u{};
     getrusage(RUSAGE_SELF, &u);

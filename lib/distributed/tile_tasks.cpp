@@ -550,7 +550,7 @@ std::string run_plan_task(const JsonValue& plan, int64_t index, const TaskContex
     const std::string phase = member(task, "phase", "task " + std::to_string(index)).string();
     const auto start = std::chrono::steady_clock::now();
     const double cpu0 = cpu_seconds();
-    Run run{plan, context, Work{member(plan, "work", "the plan").string()}, {}, {}, 0, 0, {}, {}};
+    Run run{plan, context, Work{plan_files_dir(plan)}, {}, {}, 0, 0, {}, {}};
     fs::create_directories(run.work.dir);
     const int threads = resolve_threads(context.threads > 0 ? context.threads : static_cast<int>(integer(plan, "threads", "the plan")));
     const ThreadLimit limit(threads);

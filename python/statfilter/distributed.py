@@ -141,8 +141,9 @@ def run_task(plan_path: str, index: int, memory: Union[int, str, None] = None, t
     if status != _capi.SF_OK:
         raise error_for(status, "task %d of %s: %s" % (index, plan_path, _capi.text(_capi.lib.sf_last_error())))
     with open(plan_path) as f:
-        work = json.load(f)["work"]
-    with open(os.path.join(work, "task-%d.json" % index)) as f:
+        plan = json.load(f)
+    files = os.path.join(plan["work"], plan.get("run", ""))  # the plan's run (older plans: none)
+    with open(os.path.join(files, "task-%d.json" % index)) as f:
         report = json.load(f)
     report["started"], report["finished"] = started, time.time()
     report["host"] = "%s:%d" % (os.uname().nodename, os.getpid())

@@ -1,6 +1,7 @@
 """statfilter plan + statfilter task, one after another from a shell as a render farm runs them: the
 same output as statfilter denoise with the same options (docs/distributed.md)."""
 import json
+from pathlib import Path
 import signal
 import subprocess
 import time
@@ -28,6 +29,12 @@ CASES = [
     (["--quality", "balanced", "--postfilter", "diffusion"], ["--frames-per-task", "6"], "window", True),
     (["--quality", "balanced", "--prefilter", "diffusion"], [], "shot", True),
 ]
+
+
+def plan_files(plan):
+    """Where the plan's tasks keep their files: its work directory, then its run."""
+    p = json.loads(Path(plan).read_text())
+    return Path(p["work"]) / p["run"]
 
 
 def shell_run(plan):
@@ -73,6 +80,33 @@ def test_rerunning_finished_tasks_changes_nothing(sample_noisy, tmp_path):
     assert {p.name: p.read_bytes() for p in (tmp_path / "farm").glob("o.*.exr")} == first
 
 
+def test_a_plan_made_again_in_the_same_work_directory_never_reads_the_old_plans_files(sample_noisy, tmp_path):
+    out = tmp_path / "farm" / "o.####.exr"
+    plan, work = tmp_path / "plan.json", tmp_path / "work"
+    run("plan", sample_noisy, out, "--method", "pca", "--rank", "2", "--tiles", "3", "--work", work, "-o", plan, "--quiet")
+    first = plan_files(plan)
+    shell_run(plan)
+    assert (first / "reduced.bin").exists() and (first / "tile-0.f32").exists()
+    # The same options again: the same plan, the same run (its finished tasks' files stand).
+    run("plan", sample_noisy, out, "--method", "pca", "--rank", "2", "--tiles", "3", "--work", work, "-o", plan, "--quiet")
+    assert plan_files(plan) == first
+    # Other options in the same work directory: another run. Run out of order, its tasks find none of
+    # the first plan's files (the reduction, its tiles) and fail, naming theirs.
+    run("plan", sample_noisy, out, "--method", "pca", "--rank", "4", "--tiles", "3", "--work", work, "-o", plan, "--quiet")
+    assert plan_files(plan) != first and plan_files(plan).parent == first.parent
+    tasks = json.loads(plan.read_text())["tasks"]
+    reconstruct = next(t["index"] for t in tasks if t["phase"] == "reconstruct")
+    assemble = next(t["index"] for t in tasks if t["phase"] == "assemble")
+    proc = run("task", plan, reconstruct, "--quiet", check_rc=None)
+    assert proc.returncode != 0 and str(plan_files(plan) / "reduced.bin") in proc.stderr
+    proc = run("task", plan, assemble, "--quiet", check_rc=None)
+    assert proc.returncode != 0 and "run the reconstruction tasks before the assembly" in proc.stderr
+    shell_run(plan)
+    single = tmp_path / "single" / "o.####.exr"
+    run("denoise", sample_noisy, single, "--method", "pca", "--rank", "4", "--quiet")
+    assert json.loads(run("compare", out, single, "--json").stdout)["rel_mse"] < 1e-4
+
+
 def test_a_killed_task_leaves_no_frame_and_its_rerun_completes(sample_noisy, tmp_path):
     out = tmp_path / "farm" / "o.####.exr"
     plan = tmp_path / "plan.json"
@@ -116,7 +150,7 @@ def test_window_plan_reads_only_its_frames_and_reruns_change_nothing(sample_nois
         assert proc.returncode != 0 and f"run the {missing} first" in proc.stderr
     assert not list((tmp_path / "farm").glob("o.*.exr"))
     shell_run(plan)
-    work = tmp_path / "plan.json.work"
+    work = plan_files(plan)
     frame_bytes = 160 * 120 * 3 * 4
     report = json.loads((work / "task-11.json").read_text())
     assert report["pixel_bytes_read"] == 12 * frame_bytes  # frames 0-11 of the input, once each
@@ -199,7 +233,7 @@ def test_plan_writes_image_results_as_denoise_does(sample_noisy, tmp_path, optio
         assert single and sorted(p.name for p in (tmp_path / "farm").glob(f"{n}.*.exr")) == single
         for name in single:
             assert _mask_bytes(tmp_path / "farm" / name) == _mask_bytes(tmp_path / "single" / name), name
-    reports = [json.loads((tmp_path / "plan.json.work" / f"task-{t['index']}.json").read_text()) for t in tasks["tasks"]]
+    reports = [json.loads((plan_files(plan) / f"task-{t['index']}.json").read_text()) for t in tasks["tasks"]]
     writers = [t["phase"] for t, r in zip(tasks["tasks"], reports)
                if any(f"/{n}." in o for o in r["outputs"] for n in names)]
     assert writers == [phase]

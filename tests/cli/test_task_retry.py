@@ -53,7 +53,8 @@ class Folder:
         self.tasks = json.loads(self.plan.read_text())["tasks"]
         expected = {"denoise": "tiles", "detect": "detect", "shot": "shot", "window": "window"}[kind]
         assert json.loads(self.plan.read_text())["kind"] == expected
-        self.work = Path(json.loads(self.plan.read_text())["work"])
+        written = json.loads(self.plan.read_text())
+        self.work = Path(written["work"]) / written["run"]  # where the plan's tasks keep their files
 
     def finals(self):
         """The final outputs there now, by name: frames without capDate, other files as they are."""

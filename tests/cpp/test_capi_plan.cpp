@@ -87,6 +87,20 @@ std::string read_text(const std::string& path) {
     return s.str();
 }
 
+// A plan's string member (the test's paths need no unescaping).
+std::string plan_string(const std::string& plan_path, const std::string& key) {
+    const std::string text = read_text(plan_path), start = "\"" + key + "\": \"";
+    const size_t at = text.find(start);
+    if (at == std::string::npos) return "";
+    const size_t begin = at + start.size();
+    return text.substr(begin, text.find('"', begin) - begin);
+}
+
+// Where the plan's tasks keep their files: its work directory, then its run.
+std::string plan_files(const std::string& plan_path, const std::string& name) {
+    return plan_string(plan_path, "work") + "/" + plan_string(plan_path, "run") + "/" + name;
+}
+
 // The tasks of a plan's JSON text as the plan writer lays them out, one a line: index, phase and
 // the "after" list (as written, e.g. "0, 1, 2"), and the rows it reads ("" when it has none).
 struct PlanTask {
@@ -136,7 +150,7 @@ TEST(Plan, TasksInOrderGiveTheSingleRunOutput) {
     for (int64_t t = 0; t < count; ++t) ASSERT_SF_OK(sf_plan_run_task(plan.c_str(), t, nullptr));
     EXPECT_EQ(samples_of(read_sequence(dir.file("out.####.exr")).get()),
               samples_of(read_sequence(dir.file("single.####.exr")).get()));
-    EXPECT_TRUE(fs::exists(dir.file("plan.json.work/task-9.json")));
+    EXPECT_TRUE(fs::exists(plan_files(plan, "task-9.json")));
 }
 
 // Past 32 bands the partials are summed in runs ("sum" tasks) and the reduction sums the runs' sums:
@@ -171,7 +185,7 @@ TEST(Plan, ManyBandsAreReducedThroughSumsOfRuns) {
     ASSERT_EQ(reduce, 41);
     EXPECT_EQ(tasks[static_cast<size_t>(reduce)].after, "35, 36, 37, 38, 39, 40");
     // The reduction before its sums fails, naming what is missing, and writes nothing.
-    const std::string reduced = dir.file("plan.json.work/reduced.bin");
+    const std::string reduced = plan_files(plan, "reduced.bin");
     EXPECT_NE(sf_plan_run_task(plan.c_str(), reduce, nullptr), SF_OK);
     EXPECT_NE(std::string(sf_last_error()).find("sum-0-5.bin"), std::string::npos) << sf_last_error();
     EXPECT_FALSE(fs::exists(reduced));
@@ -183,7 +197,7 @@ TEST(Plan, ManyBandsAreReducedThroughSumsOfRuns) {
     ASSERT_EQ(out.size(), want.size());
     for (size_t i = 0; i < out.size(); ++i) ASSERT_NEAR(out[i], want[i], 1e-5 * std::fabs(want[i]) + 1e-6) << i;
     // A sum run again rewrites the same bytes.
-    const std::string run3 = dir.file("plan.json.work/sum-17-23.bin"), before = read_text(run3);
+    const std::string run3 = plan_files(plan, "sum-17-23.bin"), before = read_text(run3);
     ASSERT_FALSE(before.empty());
     ASSERT_SF_OK(sf_plan_run_task(plan.c_str(), sums[3], nullptr));
     EXPECT_EQ(read_text(run3), before);
@@ -238,7 +252,7 @@ TEST(Plan, HalfOutputTilesHoldTheWritersHalves) {
             ASSERT_SF_OK(status);
             EXPECT_EQ(samples_of(read_sequence(dir.file("out1.####.exr")).get()),
                       samples_of(read_sequence(dir.file("single1.####.exr")).get()));
-            EXPECT_EQ(fs::file_size(dir.file("plan1.json.work/tile-0.f32")), static_cast<uintmax_t>(6 * 3 * 6 * 3 * 2));
+            EXPECT_EQ(fs::file_size(plan_files(dir.file("plan1.json"), "tile-0.f32")), static_cast<uintmax_t>(6 * 3 * 6 * 3 * 2));
         } else {  // the writer's error, from the reconstruction that meets the value, and no frame written
             EXPECT_EQ(single_status, SF_ERROR_NUMERIC);
             EXPECT_EQ(status, SF_ERROR_NUMERIC);
@@ -435,7 +449,7 @@ TEST(DetectPlan, TasksAndDependenciesThenTheSingleRunMaskAndCrops) {
     EXPECT_EQ(channel_name(farm_mask.get(), 0), "mask");
     EXPECT_EQ(samples_of(farm_mask.get()), samples_of(single_mask.get()));
     EXPECT_EQ(read_text(crops), std::string(single_crops));
-    EXPECT_TRUE(fs::exists(dir.file("detect.plan.json.work/task-7.json")));
+    EXPECT_TRUE(fs::exists(plan_files(plan, "task-7.json")));
 
     // The score frames and the degree map through sf_plan_write_detect_outputs: the filter's results.
     sf_detect_outputs outputs;
@@ -606,7 +620,7 @@ TEST(WindowPlan, TasksGiveTheSingleRunOutputBitForBit) {
         for (const int64_t t : {0, 4, 3, 2, 1, 5, 9, 8, 7, 6}) ASSERT_SF_OK(sf_plan_run_task(plan.c_str(), t, nullptr));
         EXPECT_EQ(samples_of(read_sequence(dir.file("out.####.exr")).get()),
                   samples_of(read_sequence(dir.file("single.####.exr")).get()));
-        const std::string analysis = read_text(dir.file("plan.json.work/analysis/analysis.json"));
+        const std::string analysis = read_text(plan_files(plan, "analysis/analysis.json"));
         EXPECT_EQ(analysis.find("\"change\"") != std::string::npos, c.name != "no_change_test" && c.moving);
         EXPECT_EQ(analysis.find("\"still\": true") != std::string::npos, !c.moving);
     }

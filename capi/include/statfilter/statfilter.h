@@ -339,7 +339,9 @@ typedef struct sf_plan_options {
     int64_t tiles;             /* bands of full-width rows to cut the shot into; 0 = from tile_rows */
     int64_t tile_rows;         /* rows per band; both 0 = 256 rows */
     int64_t frames_per_task;   /* frames per assembly or per-frame task; 0 = 8 */
-    const char* work_dir;      /* where the tasks exchange files (shared storage); NULL/"" =
+    const char* work_dir;      /* where the tasks exchange files (shared storage), in a directory
+                                  named by the plan's "run" (a hash of the plan's text: another
+                                  plan in the same work_dir never reads these); NULL/"" =
                                   "<plan_path>.work" */
     /* fields are only ever added at the end: a caller built before them leaves them unread */
     const sf_image_output* images;  /* image results to write, image_count of them (sf_plan_write) */
@@ -421,7 +423,7 @@ SF_API sf_status sf_plan_task_count(const char* plan_path, int64_t* count);
  * can be run again, and a finished task run again rewrites the same outputs. Output frames appear
  * only in "assemble", "frames" and "shot" tasks, each frame by one rename. When the task has finished,
  * its report (JSON: seconds, CPU seconds, bytes read and written, results) is in
- * "<work_dir>/task-<task>.json". run->memory and run->threads override the plan's when not 0;
+ * "<work_dir>/<run>/task-<task>.json" (<run>: the plan's "run" member). run->memory and run->threads override the plan's when not 0;
  * run->progress reports the task. */
 SF_API sf_status sf_plan_run_task(const char* plan_path, int64_t task, const sf_run_options* run);
 
