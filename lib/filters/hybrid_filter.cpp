@@ -34,12 +34,6 @@
 namespace statfilter {
 namespace {
 
-// Copies the temporal parameters this filter shares with a sub-filter.
-void pass_common(const ParamSet& from, Filter& to) {
-    for (const char* name : {"transform", "nonfinite", "shared_basis", "memory_mb"})
-        to.params().set_string(name, from.get_string(name));
-}
-
 class HybridFilter final : public Filter {
 public:
     HybridFilter() : Filter(make_params()) {
@@ -211,14 +205,14 @@ private:
 
     // I_T, the global temporal filter (`temporal`), into output; its rank results as temporal_*.
     void run_temporal(const Sequence& input, Sequence& output, const ProgressSpan& span) {
-        auto temporal = create_filter(params().get_string("temporal"));
-        pass_common(params(), *temporal);
-        temporal->execute(input, output, Progress([&](double f, const char*) {
+        LowRankStage temporal(hybrid_part_options(params().get_string("temporal"), params()));
+        Results own;
+        run_in_memory(temporal, input, output, Progress([&](double f, const char*) {
             span.report(f);
             return true;
-        }));
-        for (const auto& name : temporal->results().names())
-            if (name == "rank" || name == "mean_rank") mutable_results().set("temporal_" + name, temporal->results().get_string(name));
+        }), params().get_float("memory_mb") * 1024.0 * 1024.0, own);
+        for (const char* name : {"rank", "mean_rank"})
+            if (own.has(name)) mutable_results().copy(own, name, std::string("temporal_") + name);
     }
 
     // I_T where nothing moves, the motion-compensated average where things move (`moving`, 1 = moving),
@@ -330,15 +324,13 @@ private:
             for (int64_t f = 0; f < s.frames; ++f)
                 for (int64_t c = 0; c < s.channels; ++c)
                     compact.at(f, 0, static_cast<int64_t>(i), c) = input.at(f, pixels[i] / s.width, pixels[i] % s.width, c);
-        auto mb = create_filter("moving-basis");
-        pass_common(params(), *mb);
-        mb->params().set_int("half_width", params().get_int("mb_half_width"));
-        mb->params().set_float("sigma", params().get_int("mb_half_width") / 2.0);
+        LowRankStage mb(hybrid_part_options("moving-basis", params()));
         auto out = std::make_unique<Sequence>(compact.shape());
-        mb->execute(compact, *out, Progress([&](double f, const char*) {
+        Results own;
+        run_in_memory(mb, compact, *out, Progress([&](double f, const char*) {
             progress.report(0.6 + 0.2 * f, "moving basis");
             return true;
-        }));
+        }), params().get_float("memory_mb") * 1024.0 * 1024.0, own);
         return out;
     }
 

@@ -28,11 +28,6 @@ namespace {
 constexpr const char* kShared[] = {"transform", "transform_scale", "firefly_z", "keep_mean", "nonfinite", "shared_basis",
                                    "memory_mb"};
 
-LowRankOptions sub_filter_options(const std::string& name, const ParamSet& from) {
-    ParamSet p = create_filter(name)->params();
-    for (const char* shared : kShared) p.set_string(shared, from.get_string(shared));
-    return low_rank_options(p, name == "error-threshold" ? LowRankModel::PerPixel : LowRankModel::Global);
-}
 
 // A progress callback reporting [0, 1] into [start, start + span] of `outer`.
 Progress part_of(const Progress& outer, double start, double span) {
@@ -147,10 +142,24 @@ private:
 
 }  // namespace
 
+LowRankOptions hybrid_part_options(const std::string& name, const ParamSet& hybrid_params) {
+    ParamSet p = create_filter(name)->params();  // the part's own defaults for what the hybrid does not set
+    for (const char* shared : kShared) p.set_string(shared, hybrid_params.get_string(shared));
+    const LowRankModel model = name == "error-threshold" ? LowRankModel::PerPixel
+                               : name == "moving-basis"  ? LowRankModel::Moving
+                                                         : LowRankModel::Global;
+    LowRankOptions o = low_rank_options(p, model);
+    if (model == LowRankModel::Moving) {  // the study's window: mb_half_width frames a side, sigma half of it
+        o.moving.half_width = hybrid_params.get_int("mb_half_width");
+        o.moving.sigma = static_cast<double>(o.moving.half_width) / 2.0;
+    }
+    return o;
+}
+
 HybridStageOptions hybrid_stage_options(const ParamSet& p, bool prefiltered) {
     HybridStageOptions o;
-    o.temporal = sub_filter_options(p.get_string("temporal"), p);
-    o.still = sub_filter_options("pca", p);
+    o.temporal = hybrid_part_options(p.get_string("temporal"), p);
+    o.still = hybrid_part_options("pca", p);
     o.alpha.components = static_cast<int>(p.get_int("components"));
     o.signal_components = p.get_string("component_selection") == "signal";
     o.alpha.local_noise = p.get_string("alpha_noise") == "local";

@@ -5,6 +5,7 @@
 #include <unistd.h>
 
 #include <filesystem>
+#include <map>
 #include <random>
 
 #include "filter_runner.hpp"
@@ -145,6 +146,18 @@ TEST(Hybrid, NoMotionMeansGlobalPcaAlone) {
     // With the still-scene shortcut off it runs the full hybrid and still models no motion.
     const FilterRun full = run_filter("hybrid", *seq, {{"still_fraction", "0"}, {"motion_compensation", "off"}});
     EXPECT_EQ(full.filter->results().get_string("beta_source"), "zscore");
+    // There its output is its temporal part's, which takes every temporal parameter the hybrid is
+    // given (it once ran with its own keep_mean, firefly_z and transform_scale).
+    const std::map<std::string, std::string> shared = {
+        {"keep_mean", "0"}, {"firefly_z", "0"}, {"transform_scale", "2"}, {"postfilter", ""}};
+    std::map<std::string, std::string> study = shared;
+    study["still_fraction"] = "0";
+    study["motion_compensation"] = "off";
+    const FilterRun given = run_filter("hybrid", *seq, study);
+    ASSERT_EQ(given.result("moving_basis_fraction") + given.result("diffusion_fraction"), 0.0);
+    const FilterRun part = run_filter("error-threshold", *seq, shared);
+    EXPECT_LT(max_abs_diff(*given.output, *part.output), 1e-6);
+    EXPECT_GT(max_abs_diff(*part.output, *run_filter("error-threshold", *seq, {{"postfilter", ""}}).output), 1e-4);
 }
 
 TEST(Hybrid, EverythingMovingAndOneFrame) {
