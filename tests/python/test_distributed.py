@@ -40,11 +40,11 @@ def test_plans_say_what_is_tiled(shared_data, tmp_path):
     src = scene(shared_data)
     kinds = {}
     for name, params in {"pca": {"method": "pca"}, "fast": {"quality": "fast"}, "copy": {"method": "copy"},
-                         "balanced": {"quality": "balanced"}}.items():
+                         "balanced": {"quality": "balanced"}, "moving": {"method": "moving-basis"}}.items():
         plan = sd.write_plan(src, str(tmp_path / name / "o.####.exr"), str(tmp_path / (name + ".json")), tiles=3, **params)
         kinds[name] = plan["kind"]
         assert plan["reason"]
-    assert kinds == {"pca": "tiles", "fast": "tiles", "copy": "frames", "balanced": "window"}
+    assert kinds == {"pca": "tiles", "fast": "tiles", "copy": "frames", "balanced": "window", "moving": "tiles"}
 
 
 def test_a_plan_writes_the_rank_map_the_single_run_makes(shared_data, tmp_path):
@@ -85,6 +85,7 @@ def client():
 @pytest.mark.parametrize("params,identical", [
     ({"method": "pca", "firefly_z": 0}, True),
     ({"method": "error-threshold", "firefly_z": 0}, True),
+    ({"method": "moving-basis", "firefly_z": 0}, True),  # the operator M made from the reduced Gram
     ({"quality": "fast"}, False),  # fireflies judged per band: relMSE bound (docs/distributed.md)
     ({"method": "copy"}, True),
     ({"quality": "balanced"}, True),  # the analysis, then windows of frames
