@@ -75,10 +75,10 @@ def fmt(v):
     return "%.3g" % v if abs(v) >= 1e-3 or v == 0 else "%.1e" % v
 
 
-def write_doc(doc, rows, command):
+def write_doc(doc, rows, command, note=""):
     levels = sorted({r["level"] for r in rows}, key=lambda lv: SPP[lv])
     labels = [lb for lb in CONFIGS if lb != "OIDN"]
-    lines = [BEGIN, "", "Command: `%s`" % command, ""]
+    lines = [BEGIN, "", "Command: `%s`%s" % (command, note), ""]
     lines += ["Geometric mean over the scenes of relMSE / OIDN's (OIDN: the oidn plugin, quality high, colour only):", ""]
     lines += ["| | " + " | ".join("%d spp" % SPP[lv] for lv in levels) + " |", "|---|" + "---|" * len(levels)]
     for lb in labels:
@@ -128,7 +128,16 @@ def main():
                                      ratio=fig["rel_mse"] / oidn["rel_mse"], checks=checks(label, lv, fig, oidn)))
     command = "python3 bench/quality_targets.py" + ("" if args.configs == ",".join(CONFIGS) else " --configs " + args.configs)
     doc = Path(args.doc)
-    write_doc(doc, rows, command)
+    # A run of some configurations keeps the others' rows from the last run's figures.
+    kept, note = [], ""
+    if doc.with_suffix(".json").exists() and args.configs != ",".join(CONFIGS):
+        kept = [r for r in json.loads(doc.with_suffix(".json").read_text()) if r["label"] not in wanted]
+        if kept:
+            note = " (the other configurations' rows kept from the run before, %s)" % doc.with_suffix(".json").name
+    order = list(CONFIGS)
+    rows = sorted(rows + kept, key=lambda r: (r["scene"], SPP[r["level"]],
+                                              order.index(r["label"]) if r["label"] in order else len(order)))
+    write_doc(doc, rows, command, note)
     doc.with_suffix(".json").write_text(json.dumps(rows, indent=1) + "\n")
     failed = sum(1 for r in rows for c in r["checks"] if not c[3])
     print("%s: %d checks fail" % (doc, failed))
