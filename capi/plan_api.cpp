@@ -221,7 +221,10 @@ void write_detect_plan(sf_filter filter, const char* denoised_pattern, const cha
     request.threads = r.threads;
     request.front_end = front_end_json(handle.name, *handle.filter, ro_c, wo_c);
     std::string plan_run;
-    const std::string text = name_plan_run(make_detect_plan(*handle.filter, *source, noisy_source.get(), request), &plan_run);
+    const std::string stamp = input_files_stamp(request.denoised, source->attributes().frame_numbers()) +
+                              (noisy_source ? input_files_stamp(request.noisy, noisy_source->attributes().frame_numbers()) : "");
+    const std::string text =
+        name_plan_run(make_detect_plan(*handle.filter, *source, noisy_source.get(), request), stamp, &plan_run);
     fs::create_directories(request.work_dir + "/" + plan_run);
     AtomicFile file(path);
     file.write_at(0, text.data(), text.size());
@@ -278,7 +281,8 @@ sf_status sf_plan_write(sf_filter filter, const char* input_pattern, const sf_re
         request.threads = r.threads;
         request.front_end = front_end_json(handle.name, *handle.filter, ro_c, wo_c);
         std::string plan_run;
-        const std::string text = name_plan_run(make_plan(*handle.filter, *source, request), &plan_run);
+        const std::string text = name_plan_run(make_plan(*handle.filter, *source, request),
+                                               input_files_stamp(in, source->attributes().frame_numbers()), &plan_run);
         fs::create_directories(request.work_dir + "/" + plan_run);
         AtomicFile file(path);
         file.write_at(0, text.data(), text.size());

@@ -14,16 +14,17 @@ namespace statfilter {
 namespace fs = std::filesystem;
 
 // A task's frames are staged in a hidden directory beside the output frames (the same file system,
-// so moving each into place is one atomic rename), named after the plan's work directory and task.
-// The work directory's full path is hashed in, so plans whose work directories share a name do not
-// meet there (only the task that makes a staging directory reads it: the hash need not be stable).
+// so moving each into place is one atomic rename), named after the plan's files directory (its work
+// directory and run) and task. Its full path is hashed in, so plans whose work directories share a
+// name, or two runs in one, do not meet there (only the task that makes a staging directory reads
+// it: the hash need not be stable).
 std::string staging_dir(const JsonValue& plan, int64_t task) {
     return staging_dir(plan, task, plan.find("output")->string());
 }
 
 std::string staging_dir(const JsonValue& plan, int64_t task, const std::string& output_pattern) {
     const fs::path output(output_pattern);
-    const std::string& work = plan.find("work")->string();
+    const std::string work = plan_files_dir(plan);  // the plan's run: two runs never share a staging name
     char hash[17];
     std::snprintf(hash, sizeof hash, "%016zx", std::hash<std::string>()(work));
     return (output.parent_path() / ("." + fs::path(work).filename().string() + "-" + hash + ".frames-" +

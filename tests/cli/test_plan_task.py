@@ -1,10 +1,12 @@
 """statfilter plan + statfilter task, one after another from a shell as a render farm runs them: the
 same output as statfilter denoise with the same options (docs/distributed.md)."""
 import json
-from pathlib import Path
+import os
+import shutil
 import signal
 import subprocess
 import time
+from pathlib import Path
 
 import pytest
 
@@ -105,6 +107,30 @@ def test_a_plan_made_again_in_the_same_work_directory_never_reads_the_old_plans_
     single = tmp_path / "single" / "o.####.exr"
     run("denoise", sample_noisy, single, "--method", "pca", "--rank", "4", "--quiet")
     assert json.loads(run("compare", out, single, "--json").stdout)["rel_mse"] < 1e-4
+
+
+def test_frames_rendered_again_make_another_run(sample_noisy, tmp_path):
+    """The same options on frames written again at the same paths (a re-render) make another run:
+    the scales can come out the same (always with --transform none), the files' sizes and times do not."""
+    shot = tmp_path / "shot"
+    shot.mkdir()
+    source = Path(sample_noisy).parent
+    for f in sorted(source.glob("*.exr")):
+        shutil.copy(f, shot / f.name)
+    pattern = shot / Path(sample_noisy).name
+    plan, work = tmp_path / "plan.json", tmp_path / "work"
+    args = ("plan", pattern, tmp_path / "o.####.exr", "--method", "pca", "--transform", "none", "--tiles", "3",
+            "--work", work, "-o", plan, "--quiet")
+    run(*args)
+    first = plan_files(plan)
+    run(*args)
+    assert plan_files(plan) == first  # nothing changed: the same run
+    frame = sorted(shot.glob("*.exr"))[5]
+    data = frame.read_bytes()
+    frame.write_bytes(data)  # written again: a new modification time
+    os.utime(frame, ns=(frame.stat().st_atime_ns, frame.stat().st_mtime_ns + 1_000_000_000))
+    run(*args)
+    assert plan_files(plan) != first
 
 
 def test_a_killed_task_leaves_no_frame_and_its_rerun_completes(sample_noisy, tmp_path):
