@@ -15,7 +15,8 @@ int cmd_task(int argc, char** argv) {
         std::printf("usage: statfilter task PLAN N [--memory SIZE] [--threads N] [--quiet]\n\n"
                     "Runs task N (from 0) of a plan written by 'statfilter plan', after the tasks its \"after\"\n"
                     "list names. A task that died can be run again; a finished task run again rewrites the same\n"
-                    "files. Its report (seconds, bytes read, results) goes to the work directory as task-N.json.\n\n%s",
+                    "files. Its report (seconds, bytes read, results) goes to the plan's files in the work\n"
+                    "directory (WORK/RUN/task-N.json, RUN the plan's \"run\").\n\n%s",
                     kRunHelp);
         return 0;
     }

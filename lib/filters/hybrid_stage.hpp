@@ -43,12 +43,12 @@ struct HybridStageOptions {
     bool refine_after = false;    // the light diffusion pass on every output frame (the presets')
 };
 
-// The typed options of the hybrid filter, from its parameter table (checked there).
-// prefiltered: the frames the stage sees are a prefilter's (temporal_change_options).
 // The typed options of a low-rank part of the hybrid ("pca", "error-threshold": its temporal filter;
 // "moving-basis": the study's I_MB) from the hybrid's parameters: the temporal parameters it shares,
 // the part's own defaults for the rest.
 LowRankOptions hybrid_part_options(const std::string& name, const ParamSet& hybrid_params);
+// The typed options of the hybrid filter, from its parameter table (checked there).
+// prefiltered: the frames the stage sees are a prefilter's (temporal_change_options).
 HybridStageOptions hybrid_stage_options(const ParamSet& hybrid_params, bool prefiltered);
 // Whether the hybrid with these parameters streams: motion compensation on, one shared basis, and no
 // renderer pass (albedo, normal, vectors) to read alongside, which still run in memory.

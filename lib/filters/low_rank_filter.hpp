@@ -20,7 +20,8 @@ public:
         return std::make_unique<LowRankStage>(low_rank_options(params(), model_));
     }
     Footprint footprint() const override { return stream_stage()->footprint(); }
-    double resident_copies() const override { return 0; }  // pixel tiles and K coefficient images
+    // Pixel tiles and K coefficient images; the moving basis, its rebuilt shot before the frames go.
+    double resident_copies() const override { return model_ == LowRankModel::Moving ? 1 : 0; }
 
 protected:
     void run(const Sequence& input, Sequence& output, const Progress& progress) override {

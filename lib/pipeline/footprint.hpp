@@ -8,7 +8,7 @@ namespace statfilter {
 
 enum class TemporalReach {
     Frame,   // this frame only (diffusion, single-frame plugins)
-    Window,  // frames t - window_half .. t + window_half (moving basis, motion compensation)
+    Window,  // frames t - window_half .. t + window_half (motion compensation)
     Shot,    // the whole shot, through statistics summed over pixels (global PCA's Gram, light levels)
 };
 

@@ -83,6 +83,7 @@ void LowRankStage::reconstruct_moving(const FrameSource& source, LowRankStatisti
     }
     stats.spare_tile.reset();
     std::vector<float>().swap(stats.buffer);
+    std::vector<double>().swap(scratch);
 
     // Each frame handed on: from memory, or read back whole from the parked rows.
     std::vector<std::vector<float>> frames(static_cast<size_t>(parked ? worker_count(F, ctx.threads) : 0));

@@ -1,5 +1,6 @@
 // Frames parked on disk between two stages that read them in different orders (a per-frame
-// prefilter writes frames; the temporal passes read bands of every frame). An unlinked file in
+// prefilter writes frames; the temporal passes read bands of every frame; the moving basis rebuilds
+// bands of every frame and hands on whole frames). An unlinked file in
 // $TMPDIR (else /tmp): nothing is left behind, even when the process is killed.
 #pragma once
 #include <memory>

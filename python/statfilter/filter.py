@@ -294,7 +294,8 @@ class Filter(OwnsHandle):
                   frames: Optional[Frames] = None, pixel_type: str = "half", compression: str = "zip",
                   progress: Optional[ProgressCallback] = None, into: bool = False) -> Dict[str, Any]:
         """Run the filter from one EXR frame sequence to another without holding the shot in memory
-        where the filter allows it (pca and error-threshold stream; see docs/architecture.md).
+        where the filter allows it (pca, error-threshold, moving-basis, the hybrid, the presets, copy and
+        diffusion stream; see docs/architecture.md).
 
         memory:    the budget, bytes or a size such as "2G" (default: half of physical memory); a run
                    that cannot fit raises OutOfMemoryError naming the smallest budget, before any work.

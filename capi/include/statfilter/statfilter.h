@@ -311,10 +311,12 @@ SF_API void sf_run_options_init(sf_run_options* options);
 SF_API sf_status sf_memory_size_parse(const char* text, int64_t* bytes);
 
 /* Runs the filter from the frame sequence input_pattern to output_pattern without holding the shot
- * in memory where the filter allows it: global temporal filters (pca, error-threshold) read bands of
- * scanlines of every frame in a statistics pass and a second pass, then rebuild and write each frame
- * on its own; a prefilter and postfilter run frame by frame around them. Other filters run on the
- * whole shot in memory. Everything that can be checked is checked before the first pixel is read:
+ * in memory where the filter allows it: global temporal filters (pca, error-threshold, moving-basis)
+ * read bands of scanlines of every frame in a statistics pass and a second pass, then rebuild and
+ * write each frame (the moving basis parks its rebuilt rows in a scratch file in $TMPDIR when the
+ * shot is more than one band); the hybrid and the auto presets add a sliding window of frames;
+ * per-frame filters run frame by frame; a prefilter and postfilter run frame by frame around them.
+ * Other runs (the renderer's passes given, motion, detect) hold the whole shot in memory. Everything that can be checked is checked before the first pixel is read:
  * the filter's parameters and its pre/postfilter, every input frame's header, the output pattern,
  * compression and directory (created when missing), that the output is not the input (unless
  * run->overwrite), that no other run writes the same output, and that the run fits run->memory
@@ -340,8 +342,9 @@ typedef struct sf_plan_options {
     int64_t tile_rows;         /* rows per band; both 0 = 256 rows */
     int64_t frames_per_task;   /* frames per assembly or per-frame task; 0 = 8 */
     const char* work_dir;      /* where the tasks exchange files (shared storage), in a directory
-                                  named by the plan's "run" (a hash of the plan's text: another
-                                  plan in the same work_dir never reads these); NULL/"" =
+                                  named by the plan's "run" (a hash of the plan's text and of the
+                                  input files' sizes and times: another plan, or the same one on
+                                  frames rendered again, never reads these); NULL/"" =
                                   "<plan_path>.work" */
     /* fields are only ever added at the end: a caller built before them leaves them unread */
     const sf_image_output* images;  /* image results to write, image_count of them (sf_plan_write) */
@@ -352,13 +355,15 @@ SF_API void sf_plan_options_init(sf_plan_options* options);
 
 /* Writes a plan (JSON, atomically) of the tasks that run the filter from input_pattern to
  * output_pattern as sf_filter_run would, for any scheduler to run with sf_plan_run_task. A filter
- * whose stage is the global low-rank one (pca, error-threshold, auto with quality=fast, no prefilter
- * or postfilter) is cut into bands of rows of every frame: "statistics" tasks (one per band: its
+ * whose stage is the global low-rank one (pca, error-threshold, moving-basis, auto with quality=fast,
+ * no prefilter or postfilter) is cut into bands of rows of every frame: "statistics" tasks (one per band: its
  * partial Gram), one "reduce" task after them all (sums the partials in band order, makes the basis;
  * past 32 bands "sum" tasks first sum contiguous runs of them, and the reduction waits for those),
  * "reconstruct" tasks after it (one per band, reading its halo rows too), then "assemble" tasks (each
  * writes its chunk of output frames from the bands). A per-frame filter is cut into chunks of frames
- * ("frames" tasks, independent). Any other filter is one "shot" task. Each task lists the tasks it
+ * ("frames" tasks, independent). The hybrid and auto with quality=balanced (motion compensation, no
+ * renderer passes) run as an "analysis" task, then chunks of frames (docs/distributed.md). Any other
+ * filter is one "shot" task. Each task lists the tasks it
  * must run "after". run->memory and run->threads are each task's defaults. Checked before the plan is
  * written, as sf_filter_run checks before work: the filter, every input frame's header, the output
  * (pattern, compression, directory), and that a band task fits the memory; a plan cannot overwrite
