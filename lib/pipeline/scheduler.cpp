@@ -203,10 +203,12 @@ void Filter::execute(const FrameSource& source, FrameSink& sink, const RunOption
         }
     } else {
         // The whole shot in memory: input, output, the filter's own copies, and the stages' outputs;
-        // and the pixel tiles its passes prepare, which its memory_mb bounds (not the run's budget).
+        // the pixel tiles its passes prepare, which its memory_mb bounds (not the run's budget); and
+        // what the streamed run sets aside too (the frame stages' working sets, the files' buffers).
         const double copies = 2 + resident_copies() + (pre ? 1 : 0) + (post ? 1 : 0);
         const double tiles = params().has("memory_mb") ? params().get_float("memory_mb") * 1024.0 * 1024.0 : 0.0;
-        needed = (source.in_memory() ? copies - 1 : copies) * frame_bytes * static_cast<double>(s.frames) + tiles;
+        needed = (source.in_memory() ? copies - 1 : copies) * frame_bytes * static_cast<double>(s.frames) + tiles +
+                 frame_reserve_bytes(stages, s, threads, !source.in_memory());
         check_memory_budget(needed, budget, "this run (" + shot_text(s) + ", in memory: the filter needs the whole shot)");
         std::unique_ptr<Sequence> owned;
         const Sequence* input = source.in_memory();
