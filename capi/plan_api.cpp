@@ -8,7 +8,7 @@
 
 #include "api_guard.hpp"
 #include "distributed/detect_plan.hpp"
-#include "distributed/plan_json.hpp"
+#include "distributed/plan_run.hpp"
 #include "distributed/tile_files.hpp"
 #include "distributed/tile_plan.hpp"
 #include "options.hpp"

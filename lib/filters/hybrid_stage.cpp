@@ -28,7 +28,6 @@ namespace {
 constexpr const char* kShared[] = {"transform", "transform_scale", "firefly_z", "keep_mean", "nonfinite", "shared_basis",
                                    "memory_mb"};
 
-
 // A progress callback reporting [0, 1] into [start, start + span] of `outer`.
 Progress part_of(const Progress& outer, double start, double span) {
     return Progress([&outer, start, span](double fraction, const char* stage) {

@@ -82,17 +82,16 @@ double LowRankStage::band_row_bytes(const Shape& s) const {
 }
 
 double LowRankStage::pass_bytes(const Shape& s, int64_t rank) const {
+    const auto groups = static_cast<double>(basis_groups(s, options_.shared_basis).size());
     // The moving basis holds no coefficients: each group's Gram, the copy its windows read, its
     // operator and the plan's basis.
-    const auto group_count = static_cast<double>(basis_groups(s, options_.shared_basis).size());
-    if (moving()) return group_count * 4.0 * s.frames * s.frames * sizeof(double);
+    if (moving()) return groups * 4.0 * s.frames * s.frames * sizeof(double);
     const double P = static_cast<double>(s.pixels()), C = static_cast<double>(s.channels);
     const double stored = options_.per_pixel ? std::min<int64_t>(options_.max_rank, s.frames - 1) : rank;
     double bytes = stored * P * C * sizeof(float) + P * C * sizeof(double);  // coefficients and means
     if (options_.prep.keep_mean) bytes += P * C * (sizeof(double) + 1);      // linear means and signs
     // Each channel group's energies (stored + 1 planes) and ranks, all held at once; and the row sums
     // box_mean pools one plane at a time through.
-    const auto groups = static_cast<double>(basis_groups(s, options_.shared_basis).size());
     if (options_.per_pixel) bytes += groups * ((stored + 1) * P * sizeof(double) + P * sizeof(int64_t)) + P * sizeof(double);
     bytes += groups * 2.0 * s.frames * s.frames * sizeof(double);            // Gram and basis
     return bytes;
