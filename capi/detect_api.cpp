@@ -23,6 +23,16 @@ sf_status sf_filter_set_input(sf_filter filter, const char* name, sf_sequence se
         handle_error);
 }
 
+sf_status sf_filter_set_input_files(sf_filter filter, const char* name, const char* pattern) {
+    std::string* handle_error = filter ? &filter->last_error : nullptr;
+    return guarded(
+        [&] {
+            sf_filter_s& f = require(filter, "filter");
+            f.filter->set_input_files(require_string(name, "name"), pattern ? pattern : "");
+        },
+        handle_error);
+}
+
 sf_status sf_detect_degree_preview(sf_sequence degree_map, int64_t degree, sf_sequence* preview) {
     return guarded([&] {
         require(preview, "preview") = nullptr;

@@ -44,9 +44,8 @@ inline float bilinear(const float* frame, int64_t width, int64_t height, int64_t
 // Cycles' Vector pass, X, Y, Z, W per pixel in pixels with Y pointing up: the surface point seen at
 // (x, y) (rows counted downward) is at (x + X, y - Y) in the previous frame and at (x - Z, y + W) in
 // the next (measured on the renders, docs/methods.md). The step from `frame` one frame in direction
-// `dir` (-1 previous, +1 next), read bilinearly at (fx, fy) inside the frame.
-inline cv::Vec2f vector_step(const float* vectors, int64_t width, int64_t height, int64_t frame, int dir, float fx, float fy) {
-    const float* v = vectors + frame * width * height * 4;
+// `dir` (-1 previous, +1 next), read bilinearly at (fx, fy) inside the frame; v: that frame's vectors.
+inline cv::Vec2f vector_step(const float* v, int64_t width, int64_t height, int dir, float fx, float fy) {
     if (dir < 0) return {bilinear(v, width, height, 4, fx, fy, 0), -bilinear(v, width, height, 4, fx, fy, 1)};
     return {-bilinear(v, width, height, 4, fx, fy, 2), bilinear(v, width, height, 4, fx, fy, 3)};
 }
@@ -59,11 +58,12 @@ inline bool inside(int64_t width, int64_t height, const cv::Vec2f& q) {
 // it leaves the frame or the step fails the forward-backward check: the vector back from where it lands
 // must return it (|d + b|^2 <= 0.01 (|d|^2 + |b|^2) + 0.5, Sundaram et al. 2010). Where a surface is
 // occluded in the next frame, or uncovered in this one, the two vectors belong to different surfaces.
-inline bool follow_vectors(const float* vectors, int64_t width, int64_t height, int64_t frame, int dir, cv::Vec2f& where) {
-    const cv::Vec2f d = vector_step(vectors, width, height, frame, dir, where[0], where[1]);
+// from: the vectors of the frame it is in; to: those of the frame it moves to.
+inline bool follow_vectors(const float* from, const float* to, int64_t width, int64_t height, int dir, cv::Vec2f& where) {
+    const cv::Vec2f d = vector_step(from, width, height, dir, where[0], where[1]);
     const cv::Vec2f q = where + d;
     if (!(std::isfinite(q[0]) && std::isfinite(q[1])) || !inside(width, height, q)) return false;
-    const cv::Vec2f b = vector_step(vectors, width, height, frame + dir, -dir, q[0], q[1]);
+    const cv::Vec2f b = vector_step(to, width, height, -dir, q[0], q[1]);
     const cv::Vec2f e = d + b;
     if (!(e.dot(e) <= 0.01f * (d.dot(d) + b.dot(b)) + 0.5f)) return false;
     where = q;
@@ -199,9 +199,8 @@ double GuideScale::scale() {
     return *q > 0 ? 1.0 / *q : 1.0;
 }
 
-AlignedAverager::AlignedAverager(const Shape& shape, std::vector<int64_t> pixels, const AlignedAverageOptions& options,
-                                 const std::vector<float>* vectors)
-    : shape_(shape), pixels_(std::move(pixels)), options_(options), vectors_(vectors && !vectors->empty() ? vectors : nullptr) {}
+AlignedAverager::AlignedAverager(const Shape& shape, std::vector<int64_t> pixels, const AlignedAverageOptions& options)
+    : shape_(shape), pixels_(std::move(pixels)), options_(options) {}
 
 int flow_finest_scale(int preset_scale, int64_t width, int64_t height) {
     constexpr int64_t kMinFieldSide = 48;
@@ -235,12 +234,12 @@ double AlignedAverager::average(int64_t t, const AlignedWindow& window, float* o
 
 double AlignedAverager::average(int64_t t, const AlignedWindow& window, float* out, AlignedScratch& scratch) const {
     const Shape& s = shape_;
-    const int64_t F = s.frames, P = s.pixels(), C = s.channels;
+    const int64_t F = s.frames, C = s.channels;
     const size_t n = pixels_.size();
     const bool estimate_flow = s.width >= kMinFlowSide && s.height >= kMinFlowSide;
     const double inv_two_sigma2 = 1.0 / (2.0 * options_.sigma * options_.sigma);
     const double gain_t = options_.frame_gain.empty() ? 1.0 : options_.frame_gain[static_cast<size_t>(t)];
-    const float* vectors = vectors_ ? vectors_->data() : nullptr;
+    const bool has_vectors = static_cast<bool>(window.vectors);
     const auto image = [&](int64_t f) {
         return cv::Mat(static_cast<int>(s.height), static_cast<int>(s.width), CV_8UC1, const_cast<uint8_t*>(window.image(f)));
     };
@@ -294,8 +293,9 @@ double AlignedAverager::average(int64_t t, const AlignedWindow& window, float* o
     // Which pixels follow the vectors: those with a vector at t (Cycles writes exact zeros where no
     // geometry is hit, and a static surface has them too); the others follow the flow.
     int64_t by_flow = 0;
+    const float* vectors_t = has_vectors ? window.vectors(t) : nullptr;
     for (size_t i = 0; i < n; ++i) {
-        const float* v = vectors ? vectors + (t * P + pixels_[i]) * 4 : nullptr;
+        const float* v = vectors_t ? vectors_t + pixels_[i] * 4 : nullptr;
         by_vector[i] = v && (v[0] != 0 || v[1] != 0 || v[2] != 0 || v[3] != 0);
         by_flow += !by_vector[i];
     }
@@ -309,8 +309,12 @@ double AlignedAverager::average(int64_t t, const AlignedWindow& window, float* o
         flow.release();  // DIS starts from the flow it is handed: from zero on each side
         const int64_t last = dir < 0 ? std::max<int64_t>(0, t - options_.half_width) : std::min<int64_t>(F - 1, t + options_.half_width);
         for (int64_t f = t + dir; dir < 0 ? f >= last : f <= last; f += dir) {
-            for (size_t i = 0; i < n; ++i)
-                if (by_vector[i] && tracked[i]) tracked[i] = follow_vectors(vectors, s.width, s.height, f - dir, dir, where[i]);
+            if (vectors_t) {
+                const float* from = window.vectors(f - dir);
+                const float* to = window.vectors(f);
+                for (size_t i = 0; i < n; ++i)
+                    if (by_vector[i] && tracked[i]) tracked[i] = follow_vectors(from, to, s.width, s.height, dir, where[i]);
+            }
             if (by_flow > 0 && estimate_flow) {
                 try {
                     dis.calc(image(t), image(f), flow);

@@ -20,6 +20,15 @@ FlowPreset parse_flow_preset(const std::string& name) {
     throw Error(Status::InvalidArgument, "flow preset '" + name + "': expected ultrafast, fast or medium");
 }
 
+void pass_guide_pixels(const float* pass, int64_t channels, bool normal, int64_t pixels, float* out, int64_t stride) {
+    for (int64_t p = 0; p < pixels; ++p)
+        for (int64_t c = 0; c < 3; ++c) {
+            // A pass with fewer than three channels repeats its last one.
+            const float v = pass[p * channels + std::min(c, channels - 1)];
+            out[p * stride + c] = normal ? 0.5f * v + 0.5f : v;
+        }
+}
+
 std::unique_ptr<Sequence> make_pass_guide(const Sequence* albedo, const Sequence* normal) {
     const Sequence* first = albedo ? albedo : normal;
     if (!first) throw Error(Status::InvalidArgument, "motion compensation needs an albedo or a normal pass");
@@ -29,20 +38,18 @@ std::unique_ptr<Sequence> make_pass_guide(const Sequence* albedo, const Sequence
         if (n.frames != a.frames || n.height != a.height || n.width != a.width)
             throw Error(Status::InvalidArgument, "the albedo pass is " + to_string(a) + ", the normal pass " + to_string(n));
     }
-    const int64_t passes = (albedo ? 1 : 0) + (normal ? 1 : 0);
+    const int64_t passes = (albedo ? 1 : 0) + (normal ? 1 : 0), P = a.pixels();
     auto guide = std::make_unique<Sequence>(Shape{a.frames, a.height, a.width, 3 * passes});
+    std::vector<float> frame;
     int64_t group = 0;
     for (const Sequence* pass : {albedo, normal}) {
         if (!pass) continue;
-        const bool is_normal = pass == normal;
-        for (int64_t f = 0; f < a.frames; ++f)
-            for (int64_t y = 0; y < a.height; ++y)
-                for (int64_t x = 0; x < a.width; ++x)
-                    for (int64_t c = 0; c < 3; ++c) {
-                        // A pass with fewer than three channels repeats its last one.
-                        const float v = pass->at(f, y, x, std::min(c, pass->shape().channels - 1));
-                        guide->at(f, y, x, 3 * group + c) = is_normal ? 0.5f * v + 0.5f : v;
-                    }
+        const int64_t C = pass->shape().channels;
+        frame.resize(static_cast<size_t>(P * C));
+        for (int64_t f = 0; f < a.frames; ++f) {
+            pass->get_frame(f, frame.data());
+            pass_guide_pixels(frame.data(), C, pass == normal, P, &guide->at(f, 0, 0, 3 * group), 3 * passes);
+        }
         ++group;
     }
     return guide;
@@ -135,11 +142,12 @@ AlignedAverageStats aligned_average(const Sequence& input, const Sequence& estim
             for (int64_t p = 0; p < P; ++p)
                 for (int64_t c = 0; c < 4; ++c) vectors[static_cast<size_t>((f * P + p) * 4 + c)] = v.at(f, p / s.width, p % s.width, c);
     }
-    const AlignedAverager averager(s, pixels, options, &vectors);
+    const AlignedAverager averager(s, pixels, options);
     AlignedWindow window;
     window.values = [&](int64_t f) { return values.data() + f * frame_samples; };
     window.guide = [&](int64_t f) { return guide.data() + f * frame_samples; };
     window.image = [&](int64_t f) { return images.data() + f * P; };
+    if (!vectors.empty()) window.vectors = [&](int64_t f) { return vectors.data() + f * P * 4; };
 
     std::vector<double> frame_weight(static_cast<size_t>(F), 0.0);
     std::mutex error_mutex;

@@ -66,20 +66,11 @@ int run_filter(const Args& args, const std::string& method) {
     check_save_list(filter, method, saves);
     check_save_outputs(filter, saves, in, args.option("frames"), out);
     // --vectors PATTERN: the renderer's motion vectors (Cycles' Vector pass: X, Y, Z, W) as the
-    // filter's named input "vectors", read for the same frames as the input; a filter that does not
-    // use them says so here, before any work.
-    SequenceHandle vectors;
-    if (args.has("vectors")) {
-        sf_read_options o;
-        sf_read_options_init(&o);
-        const std::string frames = args.option("frames");
-        o.frames = frames.empty() ? nullptr : frames.c_str();
-        o.channels = "*";  // a data pass: every channel, not the default's light passes
-        check(sf_sequence_read(args.option("vectors").c_str(), &o, vectors.out()));
-        if (sf_filter_set_input(filter.get(), "vectors", vectors.get()) != SF_OK)
-            throw UsageError("--vectors: method " + method + " does not use motion vectors (" +
-                             sf_filter_last_error(filter.get()) + "); they are for the hybrid and --quality");
-    }
+    // filter's named input "vectors", files for the same frames as the input, read beside it as the
+    // run streams; a filter that does not use them says so here, before any work.
+    if (args.has("vectors") && sf_filter_set_input_files(filter.get(), "vectors", args.option("vectors").c_str()) != SF_OK)
+        throw UsageError("--vectors: method " + method + " does not use motion vectors (" +
+                         sf_filter_last_error(filter.get()) + "); they are for the hybrid and --quality");
 
     const auto start = std::chrono::steady_clock::now();
     ProgressLine progress(args.flag("quiet"));

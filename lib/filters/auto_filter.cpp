@@ -176,13 +176,14 @@ private:
 // the preset's choice and reason are reported from what it found.
 class MotionPresetStage final : public StreamStage, public WindowedStage {
 public:
-    // oidn: the pipeline runs OIDN around the stage (quality high; Filter::frame_stage_params).
+    // oidn: the pipeline runs OIDN around the stage (quality high; Filter::frame_stage_params);
+    // oidn_note: why high does not (appended to the reason).
     MotionPresetStage(HybridStageOptions options, std::string quality, std::string transform, double still_fraction,
-                      bool oidn, bool noisy_frames, bool light_levels)
+                      bool oidn, bool noisy_frames, bool light_levels, std::string oidn_note)
         : refine_(options.refine_after), oidn_(oidn), noisy_frames_(noisy_frames), light_levels_(light_levels),
-          half_width_(options.mc.half_width), stage_(std::move(options)),
-          quality_(std::move(quality)),
-          transform_(std::move(transform)), still_fraction_(still_fraction) {}
+          surfaces_(options.passes.surfaces), half_width_(options.mc.half_width), stage_(std::move(options)),
+          quality_(std::move(quality)), transform_(std::move(transform)), oidn_note_(std::move(oidn_note)),
+          still_fraction_(still_fraction) {}
     Footprint footprint() const override { return stage_.footprint(); }
     double min_bytes(const Shape& shape, int threads) const override { return stage_.min_bytes(shape, threads); }
     void run(const FrameSource& source, const FrameConsumer& consume, const StageContext& context,
@@ -197,7 +198,8 @@ public:
         // the frames can say what made them.
         std::once_flag decided;
         bool still = false;
-        const auto report = [&] { still = report_choice(own, noise, results); };
+        const bool passes = surfaces_ && (context.passes.albedo || context.passes.normal);
+        const auto report = [&] { still = report_choice(own, noise, results, passes); };
         // A light that changes over the shot is divided out before the stage and multiplied back
         // after (pipeline/light_levels.hpp); a still light leaves the stage its source untouched.
         // Not with a prefilter around the stage (high's OIDN): there it was mixed (cornell_light 4 spp
@@ -289,10 +291,11 @@ private:
     }
 
     // What the preset picked, from the motion the analysis measured; returns whether the scene is still.
-    bool report_choice(const Results& own, const NoiseInTime& noise, Results& results) const {
+    // passes: the albedo/normal passes are given and used (high without OIDN).
+    bool report_choice(const Results& own, const NoiseInTime& noise, Results& results, bool passes = false) const {
         const double moving = own.get_float("motion_fraction");
         const bool still = moving < still_fraction_;
-        const Choice choice = choose(quality_, moving, still, false, oidn_, "");
+        const Choice choice = choose(quality_, moving, still, passes, oidn_, oidn_note_);
         std::string picked = choice.method;
         if (refine_) picked += std::string(" then ") + kRefinePostfilter;
         if (oidn_) picked += " then oidn";
@@ -332,10 +335,10 @@ private:
         }, {context.progress ? *context.progress : none, 0, 1, "frames"});
     }
 
-    bool refine_, oidn_, noisy_frames_, light_levels_;
+    bool refine_, oidn_, noisy_frames_, light_levels_, surfaces_;
     int64_t half_width_;
     HybridStage stage_;
-    std::string quality_, transform_;
+    std::string quality_, transform_, oidn_note_;
     double still_fraction_;
 };
 
@@ -370,23 +373,31 @@ public:
     }
 
     // quality fast needs no analysis: it is global PCA, which streams. balanced and high are the
-    // hybrid's stage (it measures the motion in its statistics passes), which streams unless renderer
-    // passes are to be read alongside; high's OIDN runs around it frame by frame, as a prefilter run
-    // last (frame_stage_params; docs/architecture.md, "What streams").
+    // hybrid's stage (it measures the motion in its statistics passes), which streams, the renderer's
+    // passes beside its input; high's OIDN runs around it frame by frame, as a prefilter run last
+    // (frame_stage_params; docs/architecture.md, "What streams").
     std::unique_ptr<StreamStage> stream_stage() const override {
         const std::string quality = params().get_string("quality");
         if (quality != "fast") {
             const ParamSet hybrid = hybrid_params();
-            if (!hybrid_streams(hybrid, names_guide_passes(*this, params()))) return nullptr;
+            if (!hybrid_streams(hybrid)) return nullptr;
             // A prefilter the user names, or high's OIDN, runs around the preset's stage (Filter::execute).
             const ParamSet stages = frame_stage_params();
             HybridStageOptions options = hybrid_stage_options(hybrid, temporal_sees_prefilter(stages));
             // else Filter::execute runs the user's postfilter, or the prefilter in its place
             options.refine_after = params().get_string("postfilter").empty() && !prefilter_runs_last(stages);
+            // The albedo/normal passes guide high without OIDN (as the hybrid alone); balanced and
+            // high with OIDN follow the vectors only.
+            options.passes.surfaces = quality == "high" && !picks_oidn();
+            count_named_passes(*this, params(), options.passes);
+            // high without OIDN says why (OIDN only when the user named no prefilter of their own).
+            const std::string problem =
+                quality == "high" && params().get_string("prefilter").empty() ? oidn_problem() : "";
             return std::make_unique<MotionPresetStage>(std::move(options), quality, resolved_transform(),
                                                        params().get_float("still_fraction"), picks_oidn(),
                                                        !temporal_sees_prefilter(stages),
-                                                       stages.get_string("prefilter").empty());
+                                                       stages.get_string("prefilter").empty(),
+                                                       problem.empty() ? "" : " (OIDN not used: " + problem + ")");
         }
         ParamSet pca = create_filter("pca")->params();
         for (const char* name : {"nonfinite", "shared_basis", "memory_mb"}) pca.set_string(name, params().get_string(name));
@@ -401,7 +412,7 @@ public:
         if (picks_oidn()) p.set_string("prefilter", "oidn");
         return p;
     }
-    // In memory (given renderer passes): what the hybrid holds, and the shot divided by its light level.
+    // In memory (motion_compensation=off or shared_basis=0): what the hybrid holds, and the shot divided by its light level.
     double resident_copies() const override { return stream_stage() ? 2 : 5; }
     Footprint footprint() const override {
         auto stage = stream_stage();
@@ -410,10 +421,10 @@ public:
 
 private:
     // quality high, no prefilter of the user's, OIDN can run here, and the preset's stage streams
-    // (with renderer passes to read alongside, run() picks OIDN itself on the shot in memory).
+    // (else run() picks OIDN itself on the shot in memory).
     bool picks_oidn() const {
         return params().get_string("quality") == "high" && params().get_string("prefilter").empty() &&
-               oidn_problem().empty() && hybrid_streams(hybrid_params(), names_guide_passes(*this, params()));
+               oidn_problem().empty() && hybrid_streams(hybrid_params());
     }
 
     // The preset's transform: fast's, or log, unless the user named one.
@@ -450,17 +461,18 @@ private:
 protected:
     void run(const Sequence& input, Sequence& output, const Progress& progress) override {
         const std::string quality = params().get_string("quality");
+        // The renderer's passes, read and checked before any work, used or not.
+        const GuidePasses guides = guide_passes(*this, input, params());
         if (quality != "fast")
             if (auto stage = stream_stage()) {
+                const GuideMemorySources sources = guide_memory_sources(guides);
                 run_in_memory(*stage, input, output, progress, params().get_float("memory_mb") * 1024.0 * 1024.0,
-                              mutable_results());
+                              mutable_results(), sources.view);
                 return;
             }
         Choice choice;
         std::shared_ptr<Sequence> alpha;
         const NoiseInTime noise = probe_shot(!temporal_sees_prefilter(frame_stage_params()), *memory_source(input));
-        // The renderer's passes, read and checked before any work, used or not.
-        const GuidePasses guides = guide_passes(*this, input, params());
         // The transform: the preset's unless the user named one.
         std::string transform = params().get_string("transform");
         if (transform == "preset") transform = quality == "fast" ? fast_transform() : "log";

@@ -84,11 +84,13 @@ public:
         return p;
     }
 
-    // With motion compensation and no renderer pass to read alongside, the hybrid streams
-    // (filters/hybrid_stage.hpp); otherwise it holds the shot.
+    // With motion compensation the hybrid streams (filters/hybrid_stage.hpp), the renderer's passes
+    // beside its input; otherwise it holds the shot.
     std::unique_ptr<StreamStage> stream_stage() const override {
-        if (!hybrid_streams(params(), names_guide_passes(*this, params()))) return nullptr;
-        return std::make_unique<HybridStage>(hybrid_stage_options(params(), temporal_sees_prefilter(params())));
+        if (!hybrid_streams(params())) return nullptr;
+        HybridStageOptions options = hybrid_stage_options(params(), temporal_sees_prefilter(params()));
+        count_named_passes(*this, params(), options.passes);
+        return std::make_unique<HybridStage>(std::move(options));
     }
     // In memory, besides input and output: the first pass, the average's transformed samples and
     // guide, and the input with its fireflies replaced.
@@ -100,13 +102,15 @@ public:
 
 protected:
     void run(const Sequence& input, Sequence& output, const Progress& progress) override {
+        // The renderer's passes, read and checked before any work, used or not.
+        const GuidePasses passes = guide_passes(*this, input, params());
         if (auto stage = stream_stage()) {
-            run_in_memory(*stage, input, output, progress, params().get_float("memory_mb") * 1024.0 * 1024.0, mutable_results());
+            const GuideMemorySources sources = guide_memory_sources(passes);
+            run_in_memory(*stage, input, output, progress, params().get_float("memory_mb") * 1024.0 * 1024.0, mutable_results(),
+                          sources.view);
             return;
         }
         const Shape& s = input.shape();
-        // The renderer's passes, read and checked before any work, used or not.
-        const GuidePasses passes = guide_passes(*this, input, params());
         const TemporalSetup setup = temporal_setup(params(), input);
         // One basis serves alpha and, when nothing moves, the reconstruction itself.
         PreparedSeries series(input, ChannelSelection::all(s), setup.prep, setup.budget_bytes, 2);

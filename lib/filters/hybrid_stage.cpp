@@ -40,7 +40,37 @@ Progress part_of(const Progress& outer, double start, double span) {
 struct WindowFrame {
     std::vector<float> values, guide;
     std::vector<uint8_t> image;
+    std::vector<float> vectors;  // the renderer's, X Y Z W a pixel (when given)
 };
+
+// Frame f's flow image from the renderer's albedo/normal passes (make_pass_guide's frame, unscaled).
+void surfaces_image(const GuideSources& passes, int64_t f, const Shape& s, std::vector<float>& rows,
+                    std::vector<float>& guide, uint8_t* image) {
+    const int64_t P = s.pixels();
+    const int64_t groups = (passes.albedo ? 1 : 0) + (passes.normal ? 1 : 0);
+    guide.resize(static_cast<size_t>(P * 3 * groups));
+    int64_t group = 0;
+    for (const FrameSource* pass : {passes.albedo, passes.normal}) {
+        if (!pass) continue;
+        const int64_t C = pass->shape().channels;
+        rows.resize(static_cast<size_t>(P * C));
+        pass->read_rows(f, 0, s.height, rows.data());
+        pass_guide_pixels(rows.data(), C, pass == passes.normal, P, guide.data() + 3 * group, 3 * groups);
+        ++group;
+    }
+    flow_image(guide.data(), s.width, s.height, 3 * groups, 1.0, image);
+}
+
+// Frame f's vectors, the first four channels of the pass, pixel-major.
+void frame_vectors(const FrameSource& vectors, int64_t f, const Shape& s, std::vector<float>& rows, std::vector<float>& out) {
+    const int64_t P = s.pixels(), C = vectors.shape().channels;
+    out.resize(static_cast<size_t>(P * 4));
+    if (C == 4) return vectors.read_rows(f, 0, s.height, out.data());
+    rows.resize(static_cast<size_t>(P * C));
+    vectors.read_rows(f, 0, s.height, rows.data());
+    for (int64_t p = 0; p < P; ++p)
+        for (int64_t c = 0; c < 4; ++c) out[static_cast<size_t>(p * 4 + c)] = rows[static_cast<size_t>(p * C + c)];
+}
 
 // As many threads as `bytes(threads)` fits in the budget, one at least.
 int fitting_threads(const StageContext& ctx, const std::function<double(int)>& bytes) {
@@ -177,12 +207,13 @@ HybridStageOptions hybrid_stage_options(const ParamSet& p, bool prefiltered) {
     // comes back darker (Jensen); the weights still judge agreement in log units.
     o.mc.transform = ValueTransform::None;
     o.single_frame = diffusion_options(p);
+    o.passes.aux_threshold = p.get_float("aux_threshold");
+    o.passes.vector_drift = p.get_float("vector_drift");
     return o;
 }
 
-bool hybrid_streams(const ParamSet& p, bool names_passes) {
-    return p.get_string("motion_compensation") == "auto" && p.get_int("shared_basis") == 1 && !names_passes &&
-           p.get_string("albedo").empty() && p.get_string("normal").empty();
+bool hybrid_streams(const ParamSet& p) {
+    return p.get_string("motion_compensation") == "auto" && p.get_int("shared_basis") == 1;
 }
 
 HybridStage::HybridStage(HybridStageOptions options)
@@ -224,7 +255,11 @@ double HybridStage::first_pass_bytes(const Shape& s, int threads, bool keep) con
     return threads * (2 * frame + diffusions + OwnFirstPass::working_bytes(s));
 }
 
-double HybridStage::window_bytes(const Shape& s, int threads, bool keep) const {
+double HybridStage::window_bytes(const Shape& s, int threads, bool keep, const GuideSources& passes) const {
+    return window_bytes(s, threads, keep, passes.vectors != nullptr, flow_surfaces(passes));
+}
+
+double HybridStage::window_bytes(const Shape& s, int threads, bool keep, bool vectors, int surfaces) const {
     const double frame = static_cast<double>(s.pixels()) * s.channels * sizeof(float);
     const double frames = 2.0 * options_.mc.half_width + threads;  // the window of every frame being averaged
     // Each window frame: samples, guide, image. Each thread: I_T, then the first pass with the average's
@@ -234,7 +269,12 @@ double HybridStage::window_bytes(const Shape& s, int threads, bool keep) const {
     const double refine = options_.refine_after ? diffusion_working_bytes(s.pixels(), s.channels) : 0.0;
     const double average = frame + AlignedAverager::working_bytes(s, s.pixels());
     const double per_thread = frame + (keep ? refine + average + frame : std::max({average, refine, frame}));
-    return frames * (2 * frame + static_cast<double>(s.pixels())) + threads * per_thread + maps_bytes(s);
+    // The renderer's passes: each window frame's vectors (4 floats a pixel); each thread, while a frame
+    // enters, a frame of a surface pass (4 channels at most counted) and its guide (3 a pass).
+    const double P = static_cast<double>(s.pixels());
+    const double vector_frames = vectors ? frames * P * 4 * sizeof(float) : 0.0;
+    const double surface_rows = surfaces > 0 ? threads * P * (4 + 3.0 * surfaces) * sizeof(float) : 0.0;
+    return frames * (2 * frame + P) + threads * per_thread + maps_bytes(s) + vector_frames + surface_rows;
 }
 
 double HybridStage::rebuild_bytes(const Shape& s, int threads, bool keep) const {
@@ -251,7 +291,12 @@ double HybridStage::min_bytes(const Shape& s, int threads) const {
     // The passes: the temporal model, a band and the motion maps; the rebuild: the model, the maps and
     // the first pass made of each frame; the window. The last two on one thread at least.
     const double passes = temporal.pass_bytes(s, rank) + temporal.band_row_bytes(s) + analysis_bytes(s);
-    return std::max({passes, rebuild_bytes(s, 1, false), window_bytes(s, 1, false)});
+    // The renderer's passes named: their least band beside the maps (4 channels at most counted), and
+    // the window's vectors.
+    const PassMotionOptions& named = options_.passes;
+    const bool pass_bands = (named.surfaces && named.named_surfaces > 0) || (named.named_vectors && named.vector_drift > 0);
+    const double pass_band = pass_bands ? maps_bytes(s) + analysis_bytes(s) + least_pass_band_bytes(s) : 0.0;
+    return std::max({passes, pass_band, rebuild_bytes(s, 1, false), window_min_bytes(s)});
 }
 
 void HybridStage::run(const FrameSource& source, const FrameConsumer& consume, const StageContext& ctx, Results& results) {
@@ -391,6 +436,12 @@ HybridAnalysis HybridStage::analyse_passes(const FrameSource& source, const Stag
         own_weight = crossing_weight(*change.map(), *alpha);
         combine_max(*weight, *change.map());
     }
+    // And where the renderer's passes say so (read in bands as the input was; none held past here).
+    if (passes_show_motion(ctx.passes, options_.passes)) {
+        const double kept = stats.keep && !source.in_memory() ? static_cast<double>(F * P * C) * sizeof(float) : 0.0;
+        raise_by_passes(&weight->at(0, 0, 0, 0), s, ctx.passes, options_.passes, inner.budget_bytes - maps_bytes(s) - kept,
+                        ctx.threads, {progress, 0.3, 0.0, "motion"});
+    }
     alpha_analysis.reset();  // their per-pixel sums are not needed past here (maps_bytes)
     const double moving_share = mean_of_map(*weight);
     results.set("motion_fraction", moving_share);
@@ -469,7 +520,9 @@ HybridAnalysis HybridStage::analyse_passes(const FrameSource& source, const Stag
     for (const char* name : {"rank", "mean_rank"})
         if (own.has(name)) results.copy(own, name, std::string("temporal_") + name);
     results.set("beta_source", "none (motion compensation)");
-    results.set("motion_compensation", "optical flow on the first pass");
+    results.set("motion_compensation", ctx.passes.vectors       ? "the renderer's motion vectors"
+                                       : flow_on_surfaces(ctx.passes) ? "optical flow on the albedo/normal passes"
+                                                                      : "optical flow on the first pass");
     const int64_t moving_count = count_moving(analysis);
     results.set("aligned_fraction", static_cast<double>(moving_count) / static_cast<double>(P));
     results.set("moving_basis_fraction", 0.0);
@@ -517,10 +570,13 @@ void HybridStage::guides(const Shape& s, HybridAnalysis& analysis, const Sequenc
 
     // The flow images' scale: the guide's 99.5th percentile, in two reads of the guides. Each frame's
     // guide is made once, from its first pass, and parked for the second read and the window.
+    // (On the albedo/normal passes the flow's images are the passes themselves: one read, no scale.)
     GuideScale quantile(frame_samples);
     auto parked = std::make_unique<ScratchFrames>(s, attributes);
     ScratchFrames& guide_frames = *parked;
+    const bool on_surfaces = flow_on_surfaces(ctx.passes);
     for (const bool counting : {true, false}) {
+        if (!counting && on_surfaces) break;
         const int64_t batch = std::max(1, ctx.threads);
         std::vector<std::vector<float>> guides(static_cast<size_t>(batch), std::vector<float>(static_cast<size_t>(frame_samples)));
         for (int64_t f0 = 0; f0 < F; f0 += batch) {
@@ -533,14 +589,14 @@ void HybridStage::guides(const Shape& s, HybridAnalysis& analysis, const Sequenc
                 aligned_guide(estimate.data(), frame_samples, gain_of(analysis, f0 + i), mean, guide);
                 guide_frames.write_frame(f0 + i, guide);
             }, {progress, 0.5 + (counting ? 0.0 : 0.025) + 0.025 * f0 / F, 0, "motion compensation"});
-            for (int64_t i = 0; i < n; ++i) {
+            for (int64_t i = 0; i < n && !on_surfaces; ++i) {
                 if (counting) quantile.count(f0 + i, guides[static_cast<size_t>(i)].data());
                 else quantile.collect(f0 + i, guides[static_cast<size_t>(i)].data());
             }
         }
-        if (counting) quantile.finish_counting();
+        if (counting && !on_surfaces) quantile.finish_counting();
     }
-    analysis.guide_scale = quantile.scale();
+    analysis.guide_scale = on_surfaces ? 1.0 : quantile.scale();
     analysis.guides = parked.get();
     analysis.held.push_back(std::move(parked));
     double own_share = 0;
@@ -582,16 +638,19 @@ void HybridStage::window(const FrameSource& source, const HybridAnalysis& analys
 
     // 4. The window: frame t's moving pixels averaged along the flow over t - h .. t + h, blended into
     // I_T by the moving weight. Frames enter the window once and leave when no frame still needs them.
-    const AlignedAverager averager(s, pixels, mc, nullptr);
+    const AlignedAverager averager(s, pixels, mc);
     std::map<int64_t, std::unique_ptr<WindowFrame>> window;
     AlignedWindow access;
     access.values = [&](int64_t f) { return window.at(f)->values.data(); };
     access.guide = [&](int64_t f) { return window.at(f)->guide.data(); };
     access.image = [&](int64_t f) { return window.at(f)->image.data(); };
-    const int window_threads = fitting_threads(ctx, [&](int t) { return window_bytes(s, t, false); });
+    const GuideSources& passes = ctx.passes;
+    const bool on_surfaces = flow_on_surfaces(passes);
+    if (passes.vectors) access.vectors = [&](int64_t f) { return window.at(f)->vectors.data(); };
+    const int window_threads = fitting_threads(ctx, [&](int t) { return window_bytes(s, t, false, passes); });
     // Where the budget holds them (window_bytes with keep), each thread keeps its frames, the average's
     // scratch and the light pass' buffers from frame to frame.
-    const bool keep = window_bytes(s, window_threads, true) <= ctx.budget_bytes;
+    const bool keep = window_bytes(s, window_threads, true, passes) <= ctx.budget_bytes;
     refine.keep_buffers(keep);
     struct Worker {
         std::vector<float> frame, out, aligned;
@@ -623,7 +682,13 @@ void HybridStage::window(const FrameSource& source, const HybridAnalysis& analys
             read_input(source, analysis, f, frame.data());
             aligned_values(frame.data(), frame_samples, gain_of(analysis, f), mc.transform, w.values.data());
             analysis.guides->read_rows(f, 0, H, w.guide.data());
-            flow_image(w.guide.data(), W, H, C, analysis.guide_scale, w.image.data());
+            if (on_surfaces) {
+                std::vector<float> guide;
+                surfaces_image(passes, f, s, frame, guide, w.image.data());
+            } else {
+                flow_image(w.guide.data(), W, H, C, analysis.guide_scale, w.image.data());
+            }
+            if (passes.vectors) frame_vectors(*passes.vectors, f, s, frame, w.vectors);
         }, {progress, at, 0, "motion compensation"});
         parallel_for_workers(t1 - t0, window_threads, [&](int64_t i, int worker) {
             const int64_t t = t0 + i;

@@ -22,6 +22,7 @@
 #include <utility>
 #include <vector>
 
+#include "filters/pass_motion.hpp"
 #include "pipeline/low_rank_stage.hpp"
 #include "pipeline/stage.hpp"
 #include "statfilter/anisotropic_diffusion.hpp"
@@ -41,6 +42,9 @@ struct HybridStageOptions {
     AlignedAverageOptions mc;     // frame_gain and vectors are the stage's
     DiffusionOptions single_frame;  // the frame's own diffusion: the first pass where I_T ghosts
     bool refine_after = false;    // the light diffusion pass on every output frame (the presets')
+    // The renderer's passes (StageContext::passes): where they say things move; with passes.surfaces
+    // the albedo/normal passes also guide the flow (unless vectors are given, which replace it).
+    PassMotionOptions passes;
 };
 
 // The typed options of a low-rank part of the hybrid ("pca", "error-threshold": its temporal filter;
@@ -50,9 +54,9 @@ LowRankOptions hybrid_part_options(const std::string& name, const ParamSet& hybr
 // The typed options of the hybrid filter, from its parameter table (checked there).
 // prefiltered: the frames the stage sees are a prefilter's (temporal_change_options).
 HybridStageOptions hybrid_stage_options(const ParamSet& hybrid_params, bool prefiltered);
-// Whether the hybrid with these parameters streams: motion compensation on, one shared basis, and no
-// renderer pass (albedo, normal, vectors) to read alongside, which still run in memory.
-bool hybrid_streams(const ParamSet& hybrid_params, bool names_passes);
+// Whether the hybrid with these parameters streams: motion compensation on and one shared basis. The
+// renderer's passes (albedo, normal, vectors) stream beside the input (StageContext::passes).
+bool hybrid_streams(const ParamSet& hybrid_params);
 
 // What the window (step 4) needs from the passes before it.
 struct HybridAnalysis {
@@ -111,7 +115,10 @@ public:
     void window(const FrameSource& source, const HybridAnalysis& analysis, int64_t f0, int64_t f1,
                 const FrameConsumer& consume, const StageContext& context, Results& results) const;
     // The least memory the window over frames of this shape needs on one thread (a plan's frame task).
-    double window_min_bytes(const Shape& shape) const { return window_bytes(shape, 1, false); }
+    double window_min_bytes(const Shape& shape) const {
+        return window_bytes(shape, 1, false, options_.passes.named_vectors,
+                            flow_surfaces(options_.passes.named_vectors, options_.passes.named_surfaces));
+    }
 
     // As a plan's tasks (filters/hybrid_analysis_file.hpp keeps what each hands on).
     const WindowedStage* windowed() const override { return this; }
@@ -129,7 +136,15 @@ public:
 private:
     double analysis_bytes(const Shape& shape) const;
     // keep: the light diffusion pass keeps its working set from frame to frame (when the budget has room).
-    double window_bytes(const Shape& shape, int threads, bool keep) const;
+    // vectors: each window frame holds its vectors; surfaces: the albedo/normal passes the flow runs on.
+    double window_bytes(const Shape& shape, int threads, bool keep, bool vectors = false, int surfaces = 0) const;
+    double window_bytes(const Shape& shape, int threads, bool keep, const GuideSources& passes) const;
+    // The albedo/normal passes the flow runs on: given, used, and no vectors to follow (0 = none).
+    int flow_surfaces(bool vectors, int surfaces) const { return options_.passes.surfaces && !vectors ? surfaces : 0; }
+    int flow_surfaces(const GuideSources& passes) const {
+        return flow_surfaces(passes.vectors != nullptr, (passes.albedo ? 1 : 0) + (passes.normal ? 1 : 0));
+    }
+    bool flow_on_surfaces(const GuideSources& passes) const { return flow_surfaces(passes) > 0; }
     double first_pass_bytes(const Shape& shape, int threads, bool keep) const;
     double rebuild_bytes(const Shape& shape, int threads, bool keep) const;
     static double maps_bytes(const Shape& shape);

@@ -71,8 +71,27 @@ void check_pass(const Sequence& input, const Sequence& pass, const std::string& 
 
 bool names_guide_passes(const Filter& filter, const ParamSet& params) {
     for (const char* name : {"albedo", "normal", "vectors"})
-        if (filter.input(name)) return true;
-    return !params.get_string("albedo").empty() || !params.get_string("normal").empty();
+        if (filter.input(name) || !filter.input_files(name).empty()) return true;
+    for (const char* name : {"albedo", "normal"})
+        if (filter.takes_input(name) && params.has(name) && !params.get_string(name).empty()) return true;
+    return false;
+}
+
+void count_named_passes(const Filter& filter, const ParamSet& params, PassMotionOptions& options) {
+    const auto named = [&](const std::string& name) {
+        return filter.takes_input(name) &&
+               (filter.input(name) || !filter.input_files(name).empty() ||
+                (name != "vectors" && params.has(name) && !params.get_string(name).empty()));
+    };
+    options.named_vectors = named("vectors");
+    options.named_surfaces = (named("albedo") ? 1 : 0) + (named("normal") ? 1 : 0);
+}
+
+std::string guide_pass_pattern(const Filter& filter, const ParamSet& params, const std::string& name) {
+    if (filter.input(name)) return "";
+    const std::string& files = filter.input_files(name);
+    if (!files.empty() || name == "vectors" || !params.has(name)) return files;
+    return params.get_string(name);
 }
 
 GuidePasses guide_passes(const Filter& filter, const Sequence& input, const ParamSet& params) {
@@ -80,14 +99,15 @@ GuidePasses guide_passes(const Filter& filter, const Sequence& input, const Para
     g.albedo = filter.input("albedo");
     g.normal = filter.input("normal");
     g.vectors = filter.input("vectors");
-    if (!g.albedo && !params.get_string("albedo").empty()) {
-        g.read_albedo = read_pass(input, params.get_string("albedo"));
-        g.albedo = g.read_albedo.get();
-    }
-    if (!g.normal && !params.get_string("normal").empty()) {
-        g.read_normal = read_pass(input, params.get_string("normal"));
-        g.normal = g.read_normal.get();
-    }
+    const auto read = [&](const char* name, const Sequence*& pass, std::shared_ptr<const Sequence>& held) {
+        const std::string pattern = guide_pass_pattern(filter, params, name);
+        if (pass || pattern.empty()) return;
+        held = read_pass(input, pattern);
+        pass = held.get();
+    };
+    read("albedo", g.albedo, g.read_albedo);
+    read("normal", g.normal, g.read_normal);
+    read("vectors", g.vectors, g.read_vectors);
     if (g.albedo) check_pass(input, *g.albedo, "the albedo pass");
     if (g.normal) check_pass(input, *g.normal, "the normal pass");
     if (g.vectors) {
@@ -97,6 +117,19 @@ GuidePasses guide_passes(const Filter& filter, const Sequence& input, const Para
                                                      ": expected 4 channels (X, Y, Z, W)");
     }
     return g;
+}
+
+GuideMemorySources guide_memory_sources(const GuidePasses& passes) {
+    GuideMemorySources m;
+    const auto wrap = [&](const Sequence* pass, const FrameSource*& into) {
+        if (!pass) return;
+        m.held.push_back(memory_source(*pass));
+        into = m.held.back().get();
+    };
+    wrap(passes.albedo, m.view.albedo);
+    wrap(passes.normal, m.view.normal);
+    wrap(passes.vectors, m.view.vectors);
+    return m;
 }
 
 TemporalChangeOptions temporal_change_options(const ParamSet& params, bool prefiltered) {

@@ -4,6 +4,8 @@
 #include <string>
 #include <vector>
 
+#include "filters/pass_motion.hpp"
+#include "pipeline/stage.hpp"
 #include "statfilter/anisotropic_diffusion.hpp"
 #include "statfilter/filter.hpp"
 #include "statfilter/motion.hpp"
@@ -19,19 +21,31 @@ struct MotionMaps {
 };
 
 // The renderer's passes a filter is given, each for the input's frames and size: as named inputs
-// (sequences the caller holds: "albedo", "normal", "vectors"), or, for albedo and normal, as file
-// patterns in the parameters, read once here. Resolved (read and checked) before any work, whether
+// (sequences the caller holds, or files: "albedo", "normal", "vectors"), or, for albedo and normal,
+// as file patterns in the parameters; files are read once here (a run from files streams them
+// instead: pipeline/guide_sources.hpp). Resolved (read and checked) before any work, whether
 // the scene then needs them or not: a named pass that is missing or does not match is an error.
 struct GuidePasses {
     const Sequence* albedo = nullptr;
     const Sequence* normal = nullptr;
     const Sequence* vectors = nullptr;
-    std::shared_ptr<const Sequence> read_albedo, read_normal;  // those read from patterns
+    std::shared_ptr<const Sequence> read_albedo, read_normal, read_vectors;  // those read from patterns
     bool surfaces() const { return albedo || normal; }
 };
 GuidePasses guide_passes(const Filter& filter, const Sequence& input, const ParamSet& params);
-// Whether any pass is named, without reading it (for the choice of streaming).
+// Whether any pass is named, without reading it.
 bool names_guide_passes(const Filter& filter, const ParamSet& params);
+// Which passes are named (options.named_vectors, named_surfaces), without opening them.
+void count_named_passes(const Filter& filter, const ParamSet& params, PassMotionOptions& options);
+// The file pattern pass `name` is given as (a named input's files, else for albedo and normal the
+// parameter), or "" when it is not given as files.
+std::string guide_pass_pattern(const Filter& filter, const ParamSet& params, const std::string& name);
+// The passes as sources (borrowed: the passes must outlive them), for a stage run in memory.
+struct GuideMemorySources {
+    GuideSources view;
+    std::vector<std::unique_ptr<FrameSource>> held;
+};
+GuideMemorySources guide_memory_sources(const GuidePasses& passes);
 
 // Uses the temporal parameters (transform, nonfinite, shared_basis, memory_mb) and motion_params().
 MotionMaps compute_motion(const Sequence& input, const GuidePasses& passes, const ParamSet& params,

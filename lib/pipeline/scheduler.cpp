@@ -7,6 +7,7 @@
 
 #include "filters/frame_stages.hpp"
 #include "pipeline/frame_stage_pool.hpp"
+#include "pipeline/guide_sources.hpp"
 #include "pipeline/memory_budget.hpp"
 #include "pipeline/library_threads.hpp"
 #include "pipeline/parallel.hpp"
@@ -95,6 +96,8 @@ void Filter::execute(const FrameSource& source, FrameSink& sink, const RunOption
         const double instances = static_cast<double>(sharing) * threads;
         needed = stage->min_bytes(s, threads) + reserved + instances * kLeastStageShare;
         check_memory_budget(needed, budget, "this run (" + shot_text(s) + ", streamed)");
+        // The renderer's passes, opened and checked against the input before any work.
+        const OpenGuides guides = open_guide_sources(*this, source);
         double stage_shares = 0;
         if (sharing > 0) {
             const double each = std::max(kLeastStageShare, 0.5 * (budget - needed) / instances + kLeastStageShare);
@@ -156,6 +159,7 @@ void Filter::execute(const FrameSource& source, FrameSink& sink, const RunOption
         context.threads = threads;
         context.budget_bytes = budget - reserved - stage_shares;
         context.progress = &stage_progress;
+        context.passes = guides.view;
         // What a preset picked is known before its first frame is handed on: the frames say so.
         std::once_flag provenance;
         stage->run(*input, [&](int64_t f, float* pixels) {
@@ -210,6 +214,7 @@ void Filter::execute(const FrameSource& source, FrameSink& sink, const RunOption
         needed = (source.in_memory() ? copies - 1 : copies) * frame_bytes * static_cast<double>(s.frames) + tiles +
                  frame_reserve_bytes(stages, s, threads, !source.in_memory());
         check_memory_budget(needed, budget, "this run (" + shot_text(s) + ", in memory: the filter needs the whole shot)");
+        open_guide_sources(*this, source);  // the renderer's passes checked before the shot is read (run() reads them)
         std::unique_ptr<Sequence> owned;
         const Sequence* input = source.in_memory();
         if (!input) {

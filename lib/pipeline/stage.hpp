@@ -13,11 +13,21 @@
 
 namespace statfilter {
 
-// Threads, the memory the stage may hold, and progress, for one run.
+// The renderer's passes beside the input (named input sequences the front ends give: in memory or
+// files), each with the input's frames and size; null when not given. A stage reads them in bands or
+// frames as it reads its input, so they are never in memory whole either.
+struct GuideSources {
+    const FrameSource* albedo = nullptr;
+    const FrameSource* normal = nullptr;
+    const FrameSource* vectors = nullptr;  // Cycles' Vector pass: X, Y, Z, W in its first four channels
+};
+
+// Threads, the memory the stage may hold, progress and the renderer's passes, for one run.
 struct StageContext {
     int threads = 1;
     double budget_bytes = 512.0 * 1024 * 1024;
     const Progress* progress = nullptr;
+    GuideSources passes;
 };
 
 // Receives each finished frame (index, contiguous row/pixel/channel floats it may modify); called
@@ -84,8 +94,9 @@ public:
 };
 
 // The stage over a sequence in memory: the source is the sequence itself (no copy), the frames go
-// to output. Every core; budget bounds the stage's working buffers.
+// to output. Every core; budget bounds the stage's working buffers. passes: the renderer's (sources
+// of sequences in memory too, as the caller holds them).
 void run_in_memory(StreamStage& stage, const Sequence& input, Sequence& output, const Progress& progress,
-                   double budget_bytes, Results& results);
+                   double budget_bytes, Results& results, const GuideSources& passes = {});
 
 }  // namespace statfilter

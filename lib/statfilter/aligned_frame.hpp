@@ -64,6 +64,10 @@ struct AlignedWindow {
     std::function<const float*(int64_t)> values;   // aligned_values
     std::function<const float*(int64_t)> guide;    // aligned_guide
     std::function<const uint8_t*(int64_t)> image;  // flow_image
+    // The renderer's vectors of a frame (Cycles' Vector pass: X, Y, Z, W a pixel, pixel-major), or
+    // empty when there are none. Frame t's say which pixels follow them; a step from f to f +/- 1
+    // reads both frames' (the forward-backward check).
+    std::function<const float*(int64_t)> vectors;
 };
 
 // What one thread's averages work in, kept from frame to frame by a caller that averages many (at
@@ -85,10 +89,9 @@ struct AlignedScratch {
 
 class AlignedAverager {
 public:
-    // pixels: the pixels averaged (row-major indices); options as aligned_average's (its checks done).
-    // vectors: the renderer's vectors of the whole shot, F x P x 4 contiguous, or empty.
-    AlignedAverager(const Shape& shape, std::vector<int64_t> pixels, const AlignedAverageOptions& options,
-                    const std::vector<float>* vectors);
+    // pixels: the pixels averaged (row-major indices); options as aligned_average's (its checks done;
+    // its vectors come through the window, a frame at a time).
+    AlignedAverager(const Shape& shape, std::vector<int64_t> pixels, const AlignedAverageOptions& options);
     const std::vector<int64_t>& pixels() const { return pixels_; }
     // The bytes average() holds for `pixels` averaged pixels of a frame of shape's size: each pixel's
     // sums and weight, where it is and whether it is followed; the flow field at full resolution and
@@ -104,7 +107,6 @@ private:
     Shape shape_;
     std::vector<int64_t> pixels_;
     AlignedAverageOptions options_;
-    const std::vector<float>* vectors_;
 };
 
 }  // namespace statfilter

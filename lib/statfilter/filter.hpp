@@ -60,10 +60,25 @@ public:
                                               (known.empty() ? std::string(" (it takes none)") : " (inputs: " + known + ")"));
         }
         inputs_[name] = sequence;
+        if (sequence) input_files_.erase(name);
     }
+    bool takes_input(const std::string& name) const { return inputs_.count(name) != 0; }
     const Sequence* input(const std::string& name) const {
         auto it = inputs_.find(name);
         return it == inputs_.end() ? nullptr : it->second;
+    }
+    // A named input given as a frame sequence on disk (a file pattern with the main input's frames),
+    // which a run from files reads a band or a frame at a time, never whole; "" clears it. It replaces
+    // a sequence set under that name (and set_input replaces it). Unknown names throw as set_input.
+    void set_input_files(const std::string& name, const std::string& pattern) {
+        set_input(name, nullptr);
+        if (pattern.empty()) input_files_.erase(name);
+        else input_files_[name] = pattern;
+    }
+    const std::string& input_files(const std::string& name) const {
+        static const std::string none;
+        auto it = input_files_.find(name);
+        return it == input_files_.end() ? none : it->second;
     }
 
     // The image results the filter can produce (e.g. rank_map), so a request to save one can be checked
@@ -87,6 +102,7 @@ private:
     ParamSet params_;
     Results results_;
     std::map<std::string, const Sequence*> inputs_;
+    std::map<std::string, std::string> input_files_;
     std::vector<std::string> image_results_;
     std::set<std::string> per_frame_images_;
 };

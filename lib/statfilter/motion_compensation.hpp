@@ -22,6 +22,9 @@ namespace statfilter {
 // The renderer's passes as one guide for the flow: the first three channels of each pass given
 // (normals mapped from [-1, 1] to [0, 1]), F x H x W x (3 per pass). Either pass may be null.
 std::unique_ptr<Sequence> make_pass_guide(const Sequence* albedo, const Sequence* normal);
+// One frame of one pass into such a guide: `pixels` pixels of `channels` floats in, written `stride`
+// floats apart at out (the pass' group of three); normal: mapped from [-1, 1] to [0, 1].
+void pass_guide_pixels(const float* pass, int64_t channels, bool normal, int64_t pixels, float* out, int64_t stride);
 
 enum class FlowPreset { UltraFast, Fast, Medium };  // OpenCV's DIS presets: speed against accuracy
 FlowPreset parse_flow_preset(const std::string& name);

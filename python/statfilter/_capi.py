@@ -317,6 +317,7 @@ FUNCTIONS = {
     "sf_plan_run_task": (sf_status, [c_char_p, c_int64, _P(sf_run_options)]),
     # artifact detection, re-render list and merge
     "sf_filter_set_input": (sf_status, [sf_filter, c_char_p, sf_sequence]),
+    "sf_filter_set_input_files": (sf_status, [sf_filter, c_char_p, c_char_p]),
     "sf_detect_degree_preview": (sf_status, [sf_sequence, c_int64, _P(sf_sequence)]),
     "sf_crops_windows": (sf_status, [c_char_p, _P(sf_crop_window), c_size_t, _P(c_size_t), _P(c_int64), _P(c_int64)]),
     "sf_merge_options_init": (None, [_P(sf_merge_options)]),

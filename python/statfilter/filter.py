@@ -18,7 +18,7 @@ import numpy as np
 from . import _arrays, _capi
 from ._handle import OwnsHandle
 from ._progress import ProgressAdapter, ProgressCallback
-from .errors import InvalidArgumentError, NotFoundError, StatfilterWarning, check, error_for
+from .errors import InvalidArgumentError, NotFoundError, StatfilterWarning, UnsupportedError, check, error_for
 
 if TYPE_CHECKING:  # the argument types of run_files, defined with the file functions
     from .sequence import Channels, Frames, Pattern
@@ -292,7 +292,8 @@ class Filter(OwnsHandle):
     def run_files(self, input_pattern: Pattern, output_pattern: Pattern, memory: Union[int, str, None] = None,
                   threads: int = 0, overwrite: bool = False, channels: Optional[Channels] = None,
                   frames: Optional[Frames] = None, pixel_type: str = "half", compression: str = "zip",
-                  progress: Optional[ProgressCallback] = None, into: bool = False) -> Dict[str, Any]:
+                  progress: Optional[ProgressCallback] = None, into: bool = False,
+                  inputs: Optional[Mapping[str, Pattern]] = None) -> Dict[str, Any]:
         """Run the filter from one EXR frame sequence to another without holding the shot in memory
         where the filter allows it (pca, error-threshold, moving-basis, the hybrid, the presets, copy and
         diffusion stream; see docs/architecture.md).
@@ -305,6 +306,9 @@ class Filter(OwnsHandle):
         into:      write each frame into a copy of its input file instead: the filtered channels in
                    place (in the file's own pixel types, compression and tiling), every other part,
                    channel and header kept as it was.
+        inputs:    the filter's named inputs as file patterns with the input's frames, e.g. the
+                   renderer's passes {"vectors": "vector.####.exr"} for the hybrid and the presets
+                   ("albedo", "normal" too); read a band or a frame at a time beside the input.
         Everything is checked before the first pixel is read; frames appear together at the end.
         """
         from . import sequence as _sequence
@@ -326,8 +330,17 @@ class Filter(OwnsHandle):
         write, keep_write = _sequence._write_options(pixel_type, compression)
         write.into = 1 if into else 0
         self.results = {}
-        status = _capi.lib.sf_filter_run(handle, _capi.encode_path(input_pattern), ctypes.byref(read),
-                                         _capi.encode_path(output_pattern), ctypes.byref(write), ctypes.byref(run))
+        named = dict(inputs or {})
+        if named and not _capi.has("sf_filter_set_input_files"):
+            raise UnsupportedError("this statfilter library cannot read named inputs from files: update it")
+        for name, pattern in named.items():
+            self._check(_capi.lib.sf_filter_set_input_files(handle, _capi.encode(str(name)), _capi.encode_path(pattern)))
+        try:
+            status = _capi.lib.sf_filter_run(handle, _capi.encode_path(input_pattern), ctypes.byref(read),
+                                             _capi.encode_path(output_pattern), ctypes.byref(write), ctypes.byref(run))
+        finally:
+            for name in named:  # the filter keeps no file input past this run
+                _capi.lib.sf_filter_set_input_files(handle, _capi.encode(str(name)), None)
         del keep_read, keep_write
         adapter.reraise()
         if status != _capi.SF_OK:

@@ -64,6 +64,8 @@ struct RunResult {
     std::string message;
     int progress_calls = 0;
     double needed = 0, streamed = 0, bands = 0, aligned = -1;
+    std::string motion_compensation;
+    double moving = -1;  // motion_fraction
 };
 
 int count_progress(void* user, double, const char*) {
@@ -71,11 +73,14 @@ int count_progress(void* user, double, const char*) {
     return 0;
 }
 
+using Named = std::vector<std::pair<std::string, std::string>>;
+
 RunResult run_files(const std::string& name, const std::vector<std::pair<std::string, std::string>>& params,
               const std::string& in, const std::string& out, int64_t memory = 0, int overwrite = 0,
-              const char* compression = "zip") {
+              const char* compression = "zip", const Named& input_files = {}) {
     Filt f = make_filter(name, params);
     RunResult r;
+    for (const auto& [input, pattern] : input_files) EXPECT_SF_OK(sf_filter_set_input_files(f.get(), input.c_str(), pattern.c_str()));
     sf_run_options run;
     sf_run_options_init(&run);
     run.memory = memory;
@@ -91,6 +96,12 @@ RunResult run_files(const std::string& name, const std::vector<std::pair<std::st
     sf_filter_result_float(f.get(), "bands", &r.bands);
     if (sf_filter_result_float(f.get(), "aligned_fraction", &r.aligned) != SF_OK)
         sf_filter_result_float(f.get(), "hybrid.aligned_fraction", &r.aligned);
+    if (sf_filter_result_float(f.get(), "motion_fraction", &r.moving) != SF_OK)
+        sf_filter_result_float(f.get(), "hybrid.motion_fraction", &r.moving);
+    const char* how = nullptr;
+    if (sf_filter_result_string(f.get(), "motion_compensation", &how) == SF_OK ||
+        sf_filter_result_string(f.get(), "hybrid.motion_compensation", &how) == SF_OK)
+        r.motion_compensation = how;
     return r;
 }
 
@@ -210,6 +221,94 @@ TEST(Streaming, HybridAndBalancedStreamedMatchInMemoryAtManyBands) {
             rel_mse += std::pow(double(many[i]) - expected[i], 2) / (std::pow(double(expected[i]), 2) + 0.01);
         EXPECT_LT(rel_mse / static_cast<double>(many.size()), 1e-6) << what;
     }
+}
+
+// The moving square's passes as a renderer writes them: its vectors (Cycles' Vector pass: the point
+// at (x, y) was at (x + X, y - Y) in the previous frame and is at (x - Z, y + W) in the next; the
+// square moves 2 pixels right a frame, so X = Z = -2 on it, 0 elsewhere) and an albedo that tells it
+// from the background. A second square moves in the passes alone (a surface whose light does not
+// change as it slides, 1 pixel a frame, across the band edges): only the passes say it moves.
+bool on_square(int64_t f, int64_t y, int64_t x) { return y >= 12 && y < 20 && x >= 4 + 2 * f && x < 12 + 2 * f; }
+bool on_unlit_square(int64_t f, int64_t y, int64_t x) { return y >= 25 && y < 34 && x >= 2 + f && x < 10 + f; }
+float square_vectors(int64_t f, int64_t y, int64_t x, int64_t c) {
+    if (c != 0 && c != 2) return 0.0f;
+    return on_square(f, y, x) ? -2.0f : on_unlit_square(f, y, x) ? -1.0f : 0.0f;
+}
+float square_albedo(int64_t f, int64_t y, int64_t x, int64_t c) {
+    return on_square(f, y, x) || on_unlit_square(f, y, x) ? 0.8f : 0.3f + 0.1f * static_cast<float>(c);
+}
+
+// The lit square over a still background.
+float square_on_still(int64_t f, int64_t y, int64_t x, int64_t c) {
+    return still_value(f, y, x, c) + (on_square(f, y, x) ? 2.0f + 0.2f * static_cast<float>(c) : 0.0f);
+}
+
+TEST(Streaming, RenderersPassesStreamBesideTheInputWithTheInMemoryAnswer) {
+    Shot shot(shape_of(32, 40, 32, 3), square_on_still);
+    const sf_write_options o = write_options(SF_PIXEL_FLOAT);
+    Seq vectors = filled_sequence(shape_of(32, 40, 32, 4), square_vectors);
+    Seq albedo = filled_sequence(shape_of(32, 40, 32, 3), square_albedo);
+    const std::string vector_files = shot.dir.file("vector.####.exr"), albedo_files = shot.dir.file("albedo.####.exr");
+    ASSERT_SF_OK(sf_sequence_write(vectors.get(), vector_files.c_str(), &o));
+    ASSERT_SF_OK(sf_sequence_write(albedo.get(), albedo_files.c_str(), &o));
+    struct Run {
+        std::string name;
+        std::vector<std::pair<std::string, std::string>> params;
+        bool vectors = false;  // else the albedo pass, as the parameter names it
+        std::string how;
+    };
+    // Alpha and the change test told to see nothing: the passes alone say where things move (the
+    // vectors: a pixel they carry 4 pixels over the shot, summed where it is; a square covers each
+    // pixel of its path 4 frames at 2 pixels a frame, the unlit one 8 at 1).
+    const std::vector<Run> runs = {
+        {"hybrid", {{"mc_half_width", "2"}, {"vector_drift", "4"}}, true, "the renderer's motion vectors"},
+        {"hybrid", {{"mc_half_width", "2"}, {"albedo", albedo_files}}, false, "optical flow on the albedo/normal passes"},
+        {"auto", {{"quality", "balanced"}, {"vector_drift", "4"}}, true, "the renderer's motion vectors"},
+    };
+    for (const auto& [name, own_params, with_vectors, how] : runs) {
+        const std::string what = name + (with_vectors ? " with vectors" : " with albedo");
+        std::vector<std::pair<std::string, std::string>> params = {{"change_z", "0"}, {"alpha_low", "1e5"}, {"alpha_high", "2e5"}};
+        params.insert(params.end(), own_params.begin(), own_params.end());
+        // In memory: the passes as sequences the caller holds (the albedo read from its parameter).
+        Seq input = read_sequence(shot.in);
+        Seq output = create_sequence(shot.shape);
+        Filt f = make_filter(name, params);
+        if (with_vectors) ASSERT_SF_OK(sf_filter_set_input(f.get(), "vectors", vectors.get()));
+        ASSERT_SF_OK(sf_filter_execute(f.get(), input.get(), output.get()));
+        const std::vector<float> expected = samples_of(output.get());
+        const Named files = with_vectors ? Named{{"vectors", vector_files}} : Named{};
+        std::vector<std::pair<std::string, std::string>> no_passes;
+        for (const auto& p : params)
+            if (p.first != "albedo") no_passes.push_back(p);
+        const RunResult without_passes = run_files(name, no_passes, shot.in, shot.dir.file("plain.####.exr"));
+        const RunResult probe = run_files(name, params, shot.in, shot.dir.file("probe.####.exr"), 0, 0, "zip", files);
+        ASSERT_EQ(probe.status, SF_OK) << what << ": " << probe.message;
+        EXPECT_EQ(probe.streamed, 1.0) << what;
+        EXPECT_EQ(probe.motion_compensation, how) << what;
+        // Without the passes nothing moves; with them both squares' paths (about half the frame).
+        EXPECT_LT(without_passes.moving, 0.01) << what;
+        EXPECT_GT(probe.moving, 0.3) << what;
+        // At a budget that forces bands of the input and of the passes: the same frames.
+        const double row = 12.0 * shot.shape.frames * shot.shape.width * shot.shape.channels;
+        const double component = 8.0 * shot.shape.height * shot.shape.width * shot.shape.channels;
+        const std::string out = shot.dir.file("many.####.exr");
+        const RunResult r = run_files(name, params, shot.in, out, static_cast<int64_t>(probe.needed + 4 * row + 8 * component),
+                                      0, "zip", files);
+        ASSERT_EQ(r.status, SF_OK) << what << ": " << r.message;
+        EXPECT_GE(r.bands, 3) << what;
+        expect_close(samples_of(read_sequence(out).get()), expected, 1e-5, what);
+    }
+    // Given as files, a pass that does not match the input is refused before the first pixel.
+    Seq short_vectors = filled_sequence(shape_of(32, 40, 16, 4), square_vectors);
+    const std::string narrow = shot.dir.file("narrow.####.exr");
+    ASSERT_SF_OK(sf_sequence_write(short_vectors.get(), narrow.c_str(), &o));
+    const RunResult bad = run_files("hybrid", {}, shot.in, shot.dir.file("bad.####.exr"), 0, 0, "zip", {{"vectors", narrow}});
+    EXPECT_EQ(bad.status, SF_ERROR_INVALID_ARGUMENT);
+    EXPECT_NE(bad.message.find("narrow"), std::string::npos) << bad.message;
+    EXPECT_EQ(bad.progress_calls, 0) << bad.message;
+    // A filter that takes no such input says so.
+    Filt pca = make_filter("pca", {});
+    EXPECT_EQ(sf_filter_set_input_files(pca.get(), "vectors", vector_files.c_str()), SF_ERROR_NOT_FOUND);
 }
 
 TEST(Streaming, ShippedSampleStreamedEqualsInMemory) {

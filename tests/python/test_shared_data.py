@@ -71,3 +71,29 @@ def test_blender_frames_denoised_into_copies_keep_their_other_layers(shared_data
     after = statfilter.read_sequence(out, channels=light)
     assert after.shape == before.shape and not np.array_equal(after, before)
     assert abs(after.mean() / before.mean() - 1) < 0.01  # the light kept
+
+
+def test_renderers_vectors_as_files_stream_with_the_in_memory_answer(shared_data, tmp_path):
+    # The renderer's motion vectors named as files: run_files reads them beside the input a band or a
+    # frame at a time, within a budget that forces bands, and gives what the filter gives in memory.
+    scene = os.path.join(shared_data, "fast_ball")
+    pattern = os.path.join(scene, "spp0016", "indirect.####.exr")
+    vectors = os.path.join(scene, "aux", "vector.####.exr")
+    if not os.path.exists(statfilter.pattern_format(vectors, 1)):
+        pytest.skip("no %s" % vectors)
+    a = statfilter.read_sequence(pattern, frames="1-16")
+    v = statfilter.read_sequence(vectors, frames="1-16", channels="*")
+    # (firefly_z=0: band by band the firefly test judges each band on its own, within 1e-4 relMSE.)
+    params = dict(mc_half_width=3, firefly_z=0)
+    expected = statfilter.Filter("hybrid", **params)(a, inputs={"vectors": v})
+    f = statfilter.Filter("hybrid", **params)
+    out = str(tmp_path / "o.####.exr")
+    results = f.run_files(pattern, out, frames="1-16", pixel_type="float", memory="15M", inputs={"vectors": vectors})
+    assert results["run.streamed"] == 1 and results["bands"] >= 2
+    assert results["motion_compensation"] == "the renderer's motion vectors"
+    np.testing.assert_allclose(statfilter.read_sequence(out), expected, rtol=1e-5, atol=1e-6)
+    # The filter keeps no file input past the run: without vectors it follows the optical flow.
+    f.run_files(pattern, out, frames="1-16", overwrite=True)
+    assert f.results["motion_compensation"] == "optical flow on the first pass"
+    with pytest.raises(statfilter.NotFoundError):
+        statfilter.Filter("pca").run_files(pattern, out, frames="1-16", inputs={"vectors": vectors})

@@ -316,7 +316,9 @@ SF_API sf_status sf_memory_size_parse(const char* text, int64_t* bytes);
  * write each frame (the moving basis parks its rebuilt rows in a scratch file in $TMPDIR when the
  * shot is more than one band); the hybrid and the auto presets add a sliding window of frames;
  * per-frame filters run frame by frame; a prefilter and postfilter run frame by frame around them.
- * Other runs (the renderer's passes given, motion, detect) hold the whole shot in memory. Everything that can be checked is checked before the first pixel is read:
+ * The renderer's passes (named inputs, in memory or sf_filter_set_input_files) are read beside the
+ * input the same way. Other runs (motion, detect) hold the whole shot in memory. Everything that can
+ * be checked is checked before the first pixel is read:
  * the filter's parameters and its pre/postfilter, every input frame's header, the output pattern,
  * compression and directory (created when missing), that the output is not the input (unless
  * run->overwrite), that no other run writes the same output, and that the run fits run->memory
@@ -471,6 +473,17 @@ SF_API sf_status sf_filter_info_get(const char* name, sf_filter_info* info);
  * pixel-frame) and "degree_map" (1 x H x W x 1, the polynomial degree each pixel needed), the text
  * "crops" (the crop windows as JSON, see docs/methods.md) and counts such as "flagged_fraction". */
 SF_API sf_status sf_filter_set_input(sf_filter filter, const char* name, sf_sequence sequence);
+
+/* A named input given as a frame sequence on disk: a file pattern (as sf_sequence_read's) holding
+ * the same frames as the main input, every channel read. sf_filter_run reads it a band of rows or a
+ * frame at a time beside the input, so a run given the renderer's passes (the hybrid's and the
+ * presets' "albedo", "normal", "vectors") streams within its memory budget too; sf_filter_execute
+ * reads it whole. The files are opened and checked against the input (frames, width, height; the
+ * vectors' four channels X, Y, Z, W) when the run starts, before any work. It replaces a sequence set
+ * under that name with sf_filter_set_input (and is replaced by one); pattern NULL or "" clears it.
+ * The filter keeps a copy of the pattern. A name the filter does not take fails with
+ * SF_ERROR_NOT_FOUND listing the names it takes. */
+SF_API sf_status sf_filter_set_input_files(sf_filter filter, const char* name, const char* pattern);
 
 /* The "detect" filter's "degree_map" result (1 x H x W x 1) as a picture for people, given the
  * filter's "degree" parameter: degree 0 dark blue through yellow at the highest degree, pixels that no
