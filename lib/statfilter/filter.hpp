@@ -60,16 +60,22 @@ public:
                                               (known.empty() ? std::string(" (it takes none)") : " (inputs: " + known + ")"));
         }
         inputs_[name] = sequence;
-        if (sequence) input_files_.erase(name);
+        input_files_.erase(name);  // a sequence, or none: no files either
     }
     bool takes_input(const std::string& name) const { return inputs_.count(name) != 0; }
+    std::vector<std::string> input_names() const {
+        std::vector<std::string> names;
+        for (const auto& [name, sequence] : inputs_) names.push_back(name);
+        return names;
+    }
     const Sequence* input(const std::string& name) const {
         auto it = inputs_.find(name);
         return it == inputs_.end() ? nullptr : it->second;
     }
     // A named input given as a frame sequence on disk (a file pattern with the main input's frames),
     // which a run from files reads a band or a frame at a time, never whole; "" clears it. It replaces
-    // a sequence set under that name (and set_input replaces it). Unknown names throw as set_input.
+    // a sequence set under that name, and set_input (a sequence or nullptr) replaces or clears it.
+    // Unknown names throw as set_input.
     void set_input_files(const std::string& name, const std::string& pattern) {
         set_input(name, nullptr);
         if (pattern.empty()) input_files_.erase(name);

@@ -333,9 +333,9 @@ class Filter(OwnsHandle):
         named = dict(inputs or {})
         if named and not _capi.has("sf_filter_set_input_files"):
             raise UnsupportedError("this statfilter library cannot read named inputs from files: update it")
-        for name, pattern in named.items():
-            self._check(_capi.lib.sf_filter_set_input_files(handle, _capi.encode(str(name)), _capi.encode_path(pattern)))
         try:
+            for name, pattern in named.items():
+                self._check(_capi.lib.sf_filter_set_input_files(handle, _capi.encode(str(name)), _capi.encode_path(pattern)))
             status = _capi.lib.sf_filter_run(handle, _capi.encode_path(input_pattern), ctypes.byref(read),
                                              _capi.encode_path(output_pattern), ctypes.byref(write), ctypes.byref(run))
         finally:
