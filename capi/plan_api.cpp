@@ -12,6 +12,7 @@
 #include "distributed/tile_files.hpp"
 #include "distributed/tile_plan.hpp"
 #include "options.hpp"
+#include "pipeline/guide_sources.hpp"
 #include "statfilter/filter_registry.hpp"
 #include "statfilter/json.hpp"
 
@@ -32,15 +33,26 @@ double number_member(const JsonValue& object, const char* key) {
 }
 
 // The front end's settings a task needs to do what sf_filter_run would: the filter by name and its
-// parameters not at their defaults, the read and write options.
+// parameters not at their defaults, its named inputs given as files (paths made absolute), the read
+// and write options.
 std::string front_end_json(const std::string& name, const Filter& f, const sf_read_options& r, const sf_write_options& w) {
     std::ostringstream o;
     o << "{\"filter\": " << json_quote(name) << ", \"parameters\": {";
     bool first = true;
     for (const ParamSpec& spec : f.params().specs()) {
-        const std::string& value = f.params().get_string(spec.name);
+        std::string value = f.params().get_string(spec.name);
         if (value == spec.default_value) continue;
+        // A pass named by a parameter (the hybrid's "albedo", "normal") is files the tasks open, from
+        // any working directory.
+        if (f.takes_input(spec.name)) value = fs::absolute(value).lexically_normal().string();
         o << (first ? "" : ", ") << json_quote(spec.name) << ": " << json_quote(value);
+        first = false;
+    }
+    o << "}, \"inputs\": {";
+    first = true;
+    for (const std::string& input : f.input_names()) {
+        if (f.input_files(input).empty()) continue;
+        o << (first ? "" : ", ") << json_quote(input) << ": " << json_quote(fs::absolute(f.input_files(input)).lexically_normal().string());
         first = false;
     }
     auto text = [](const char* s) { return json_quote(text_or_empty(s)); };
@@ -60,6 +72,7 @@ struct FrontEnd {
     sf_read_options read;
     sf_write_options write;
     std::vector<std::pair<std::string, std::string>> parameters;
+    std::vector<std::pair<std::string, std::string>> inputs;  // named inputs given as files
 };
 
 const char* or_null(const std::string& s) { return s.empty() ? nullptr : s.c_str(); }
@@ -71,6 +84,8 @@ std::unique_ptr<FrontEnd> front_end_from(const JsonValue& plan) {
     out->filter = text_member(*fe, "filter");
     if (const JsonValue* p = fe->find("parameters"))
         for (const auto& [name, value] : p->members()) out->parameters.emplace_back(name, value.string());
+    if (const JsonValue* i = fe->find("inputs"))  // plans written before named inputs had none
+        for (const auto& [name, value] : i->members()) out->inputs.emplace_back(name, value.string());
     sf_read_options_init(&out->read);
     sf_write_options_init(&out->write);
     if (const JsonValue* r = fe->find("read")) {
@@ -268,6 +283,16 @@ sf_status sf_plan_write(sf_filter filter, const char* input_pattern, const sf_re
         checks.height = source->shape().height;
         checks.input_pattern = in;
         open_frame_sink(out, wo, source->attributes(), checks);  // the output's checks, now; nothing written
+        // The tasks read every input from files: a pass in the caller's memory cannot reach them.
+        for (const std::string& input : handle.filter->input_names())
+            if (handle.filter->input(input))
+                throw Error(Status::InvalidArgument, "the filter's input '" + input + "' is in memory, which a plan's tasks "
+                                                     "cannot read: give it as files (sf_filter_set_input_files)");
+        open_guide_sources(*handle.filter, *source);  // the renderer's passes checked against the input, now
+        std::string stamp = input_files_stamp(in, source->attributes().frame_numbers());
+        for (const std::string& input : handle.filter->input_names())  // passes rendered again: another run
+            if (!handle.filter->input_files(input).empty())
+                stamp += input_files_stamp(absolute(handle.filter->input_files(input)), source->attributes().frame_numbers());
         PlanRequest request;
         request.images = image_outputs(p, in, out);
         request.input = in;
@@ -281,8 +306,7 @@ sf_status sf_plan_write(sf_filter filter, const char* input_pattern, const sf_re
         request.threads = r.threads;
         request.front_end = front_end_json(handle.name, *handle.filter, ro_c, wo_c);
         std::string plan_run;
-        const std::string text = name_plan_run(make_plan(*handle.filter, *source, request),
-                                               input_files_stamp(in, source->attributes().frame_numbers()), &plan_run);
+        const std::string text = name_plan_run(make_plan(*handle.filter, *source, request), stamp, &plan_run);
         fs::create_directories(request.work_dir + "/" + plan_run);
         AtomicFile file(path);
         file.write_at(0, text.data(), text.size());
@@ -333,6 +357,7 @@ sf_status sf_plan_run_task(const char* plan_path, int64_t task, const sf_run_opt
         const auto fe = front_end_from(plan);
         auto filter = create_filter(fe->filter);
         for (const auto& [name, value] : fe->parameters) filter->params().set_string(name, value);
+        for (const auto& [name, pattern] : fe->inputs) filter->set_input_files(name, pattern);
         filter->check();
         ReadOptions ro = read_options_from(&fe->read);
         WriteOptions wo = write_options_from(&fe->write);

@@ -58,4 +58,13 @@ sf_run_options run_options(const Args& args) {
     return run;
 }
 
+void set_vectors_input(FilterHandle& filter, const Args& args, const std::string& method) {
+    if (args.has("vectors") && sf_filter_set_input_files(filter.get(), "vectors", args.option("vectors").c_str()) != SF_OK)
+        throw UsageError("--vectors: method " + method + " does not use motion vectors (" +
+                         sf_filter_last_error(filter.get()) + "); they are for the hybrid and --quality");
+}
+
+const char* const kVectorsHelp =
+    "  --vectors PATTERN       the renderer's motion vectors (Cycles Vector pass) for the hybrid and --quality\n";
+
 }  // namespace statfilter_cli

@@ -20,5 +20,10 @@ std::string denoise_method(const Args& args);
 void set_filter_parameters(FilterHandle& filter, const Args& args);
 // --memory SIZE and --threads N into the run options (usage errors name the option).
 sf_run_options run_options(const Args& args);
+// --vectors PATTERN: the renderer's motion vectors (Cycles' Vector pass: X, Y, Z, W) as the filter's
+// named input "vectors", files with the input's frames read beside it; a method that takes none is a
+// usage error, before any work.
+void set_vectors_input(FilterHandle& filter, const Args& args, const std::string& method);
+extern const char* const kVectorsHelp;
 
 }  // namespace statfilter_cli

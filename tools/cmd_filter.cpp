@@ -65,12 +65,7 @@ int run_filter(const Args& args, const std::string& method) {
     set_filter_parameters(filter, args);
     check_save_list(filter, method, saves);
     check_save_outputs(filter, saves, in, args.option("frames"), out);
-    // --vectors PATTERN: the renderer's motion vectors (Cycles' Vector pass: X, Y, Z, W) as the
-    // filter's named input "vectors", files for the same frames as the input, read beside it as the
-    // run streams; a filter that does not use them says so here, before any work.
-    if (args.has("vectors") && sf_filter_set_input_files(filter.get(), "vectors", args.option("vectors").c_str()) != SF_OK)
-        throw UsageError("--vectors: method " + method + " does not use motion vectors (" +
-                         sf_filter_last_error(filter.get()) + "); they are for the hybrid and --quality");
+    set_vectors_input(filter, args, method);
 
     const auto start = std::chrono::steady_clock::now();
     ProgressLine progress(args.flag("quiet"));
@@ -152,8 +147,8 @@ int cmd_denoise(int argc, char** argv) {
                     kDefaultMethod, kDefaultMethodWithPrefilter);
         for (int i = 0; i < sf_filter_count(); ++i) print_parameters(sf_filter_name(i));
         std::printf("\n%s\n%s\n%s%s  --save NAME=PATH[,...]  write image results, e.g. rank_map=ranks.exr (PNG: false colour)\n"
-                    "  --vectors PATTERN       the renderer's motion vectors (Cycles Vector pass) for the hybrid and --quality\n"
-                    "  --json                  report on stdout\n  --quiet, -q\n", kInputHelp, kOutputHelp, kRunHelp, kIntoHelp);
+                    "%s  --json                  report on stdout\n  --quiet, -q\n", kInputHelp, kOutputHelp, kRunHelp, kIntoHelp,
+                    kVectorsHelp);
         return 0;
     }
     return run_filter(args, denoise_method(args));

@@ -102,7 +102,7 @@ int plan_detect(int argc, char** argv) {
 int cmd_plan(int argc, char** argv) {
     if (argc > 2 && std::string(argv[2]) == "detect") return plan_detect(argc, argv);
     const Args args(argc, argv, 2, {"help", "quiet", "float", "clamp-half"},
-                    merged({kInputOptions, kOutputOptions, kRunOptions, {"method", "output-file", "tiles", "tile-rows", "frames-per-task", "work", "save"}}));
+                    merged({kInputOptions, kOutputOptions, kRunOptions, {"method", "output-file", "tiles", "tile-rows", "frames-per-task", "work", "save", "vectors"}}));
     if (args.flag("help")) {
         std::printf("usage: statfilter plan IN OUT [denoise options] [--tiles N | --tile-rows R] -o PLAN\n"
                     "       statfilter plan detect DENOISED --noisy NOISY [--mask M] [--crops C] [...] -o PLAN\n"
@@ -122,7 +122,7 @@ int cmd_plan(int argc, char** argv) {
                     "  --save NAME=PATH[,...]  image results, as denoise writes them: rank_map (error-threshold),\n"
                     "                          alpha (balanced, hybrid), or any of a one-task plan's (PNG: false colour)\n"
                     "  --memory SIZE, --threads N   each task's (default: half of its node's memory, every core)\n"
-                    "\n%s\n%s", kInputHelp, kOutputHelp);
+                    "%s\n%s\n%s", kVectorsHelp, kInputHelp, kOutputHelp);
         return 0;
     }
     if (args.positionals().size() != 2) throw UsageError("expected IN and OUT patterns (see --help)");
@@ -141,6 +141,7 @@ int cmd_plan(int argc, char** argv) {
     options.work_dir = work.empty() ? nullptr : work.c_str();
     FilterHandle filter(method);
     set_filter_parameters(filter, args);
+    set_vectors_input(filter, args, method);
     const auto saves = parse_save_list(args.option("save"));
     check_save_list(filter, method, saves);
     std::vector<sf_image_output> images;

@@ -6,7 +6,6 @@
 
 #include "distributed/plan_json.hpp"
 #include "filters/frame_stages.hpp"
-#include "filters/motion_analysis.hpp"
 #include "pipeline/frame_stage_pool.hpp"
 #include "pipeline/low_rank_stage.hpp"
 #include "pipeline/memory_budget.hpp"
@@ -109,10 +108,7 @@ std::string make_plan(const Filter& filter, const FrameSource& source, const Pla
     // A postfilter runs on each frame a window task makes, unless it takes a share of the memory budget
     // (OIDN's tiles follow the share, which depends on the run around it).
     const bool post_per_frame = !post || !FrameStagePool("postfilter", stages).takes_memory_share();
-    // The window plan's tasks read the input alone: given the renderer's passes the stage runs as one
-    // task (streamed, the passes beside the input).
-    const bool passes = names_guide_passes(filter, filter.params());
-    const WindowedStage* windowed = stage && !pre && post_per_frame && !passes ? stage->windowed() : nullptr;
+    const WindowedStage* windowed = stage && !pre && post_per_frame ? stage->windowed() : nullptr;
 
     // What runs as which task; the images asked for checked against it before any frame is read.
     const std::string kind = low_rank && !pre && !post                                 ? "tiles"
@@ -205,8 +201,6 @@ std::string make_plan(const Filter& filter, const FrameSource& source, const Pla
     } else {
         reason = std::string("one task for the whole shot: ") +
                  (low_rank ? "a prefilter or postfilter around the low-rank stage is not cut into tiles yet"
-                  : stage && passes ? "the filter's stage (" + describe(stage->footprint()) +
-                                          ") streams the renderer's passes beside the input, which its tasks do not read yet"
                   : stage  ? "the filter's stage (" + describe(stage->footprint()) + ") is not cut into tiles yet"
                            : "the filter runs on the whole shot in memory");
         tasks.push_back({"shot", "\"frames\": " + range_json(0, s.frames), {}});

@@ -18,6 +18,7 @@
 #include "distributed/tile_plan.hpp"
 #include "filters/frame_stages.hpp"
 #include "pipeline/frame_stage_pool.hpp"
+#include "pipeline/guide_sources.hpp"
 #include "pipeline/low_rank_stage.hpp"
 #include "pipeline/memory_budget.hpp"
 #include "pipeline/library_threads.hpp"
@@ -561,6 +562,10 @@ std::string run_plan_task(const JsonValue& plan, int64_t index, const TaskContex
                              : plan_budget > 0       ? plan_budget
                                                      : static_cast<double>(default_memory_budget());
     run.stage.progress = &context.progress;
+    // The renderer's passes the plan's filter names, opened and checked before any work (a window
+    // plan's analysis reads them in bands, its window tasks each frame's; a shot task's run opens its own).
+    const OpenGuides guides = open_guide_sources(*context.filter, *context.source);
+    run.stage.passes = guides.view;
     if (phase == "statistics") statistics_task(run, task);
     else if (phase == "sum") sum_task(run, task);
     else if (phase == "reduce") reduce_task(run, task);

@@ -78,11 +78,16 @@ def write_plan(input: str, output: str, plan_path: str, method: Optional[str] = 
                tile_rows: int = 0, frames_per_task: int = 0, work_dir: Optional[str] = None,
                memory: Union[int, str, None] = None, threads: int = 0, channels: Any = None, frames: Any = None,
                pixel_type: str = "half", compression: str = "zip", save: Optional[Dict[str, str]] = None,
-               **params: Any) -> Dict[str, Any]:
+               inputs: Optional[Dict[str, str]] = None, **params: Any) -> Dict[str, Any]:
     """Write the plan of tasks (as ``statfilter plan`` does) and return it (the parsed JSON).
     save: image results to write, {name: path} (``statfilter plan --save``: rank_map of
-    error-threshold, alpha of balanced and the hybrid; a .png path gets the false-colour picture)."""
+    error-threshold, alpha of balanced and the hybrid; a .png path gets the false-colour picture).
+    inputs: the filter's named inputs as file patterns, e.g. {"vectors": "vector.####.exr"} (the
+    renderer's passes, read by the tasks beside the input)."""
     flt = Filter(_method(method, params), **params)
+    for name, pattern in (inputs or {}).items():
+        check(_capi.lib.sf_filter_set_input_files(flt._live(), _capi.encode(str(name)), _capi.encode_path(pattern)),
+              flt._live())
     run, plan, work = _plan_options(memory, threads, tiles, tile_rows, work_dir)
     plan.frames_per_task = int(frames_per_task)
     saves = list((save or {}).items())
@@ -159,7 +164,8 @@ def denoise(input: str, output: str, client: Any = None, method: Optional[str] =
             tile_rows: int = 0, frames_per_task: int = 0, work_dir: Optional[str] = None,
             memory: Union[int, str, None] = None, threads: int = 1, channels: Any = None, frames: Any = None,
             pixel_type: str = "half", compression: str = "zip", retries: int = 3, progress: bool = True,
-            keep_work: bool = False, save: Optional[Dict[str, str]] = None, **params: Any) -> Dict[str, Any]:
+            keep_work: bool = False, save: Optional[Dict[str, str]] = None, inputs: Optional[Dict[str, str]] = None,
+            **params: Any) -> Dict[str, Any]:
     """Denoise the EXR sequence `input` into `output` on a Dask cluster.
 
     client:    a dask.distributed Client; None = a LocalCluster of two single-threaded worker
@@ -171,6 +177,7 @@ def denoise(input: str, output: str, client: Any = None, method: Optional[str] =
     memory, threads: each task's budget and threads (threads=1: one task per worker thread).
     retries:   times Dask reruns a task whose worker died (tasks are idempotent).
     save:      image results to write, {name: path}, each by the task that makes it (write_plan).
+    inputs:    the renderer's passes as file patterns, {"vectors": ...} (write_plan).
     Returns the report: the plan's kind and reason, tasks, bytes read and written, seconds per phase,
     the method's results. The output frames appear as the assembly tasks finish, each at once.
     """
@@ -187,7 +194,7 @@ def denoise(input: str, output: str, client: Any = None, method: Optional[str] =
         plan = write_plan(input, output, plan_path, method=method, tiles=tiles, tile_rows=tile_rows,
                           frames_per_task=frames_per_task, work_dir=os.path.join(plan_dir, "work"), memory=memory,
                           threads=threads, channels=channels, frames=frames, pixel_type=pixel_type,
-                          compression=compression, save=save, **params)
+                          compression=compression, save=save, inputs=inputs, **params)
     except BaseException:
         shutil.rmtree(plan_dir, ignore_errors=True)  # nothing was written but the empty plan directory
         raise

@@ -10,7 +10,7 @@ from pathlib import Path
 
 import pytest
 
-from conftest import CLI, run
+from conftest import CLI, SAMPLE, SHARED, run
 
 # (options, how the plan cuts the shot, kind, bit-identical). The firefly test judges each band of
 # rows against that band's own spread, so with fireflies on (the default) tiles differ from one band
@@ -30,6 +30,9 @@ CASES = [
     (["--method", "hybrid", "--mc_half_width", "2"], ["--frames-per-task", "3"], "window", True),
     (["--quality", "balanced", "--postfilter", "diffusion"], ["--frames-per-task", "6"], "window", True),
     (["--quality", "balanced", "--prefilter", "diffusion"], [], "shot", True),
+    # The renderer's passes read by the window plan's tasks: the analysis in bands, the windows by frame.
+    (["--method", "hybrid", "--mc_half_width", "2", "--albedo", str(SAMPLE / "cornell_moving" / "aux" / "albedo.####.exr"),
+      "--normal", str(SAMPLE / "cornell_moving" / "aux" / "normal.####.exr")], ["--frames-per-task", "5"], "window", True),
 ]
 
 
@@ -66,6 +69,32 @@ def test_plan_and_tasks_give_the_denoise_output(sample_noisy, tmp_path, options,
         assert rel_mse == 0
     else:
         assert 0 <= rel_mse < 1e-4
+
+
+def test_a_window_plan_follows_the_renderers_vectors(tmp_path):
+    scene = SHARED / "fast_ball"
+    vectors = scene / "aux" / "vector.####.exr"
+    if not (scene / "aux" / "vector.0001.exr").exists():
+        pytest.skip(f"no {vectors}")
+    noisy = scene / "spp0016" / "indirect.####.exr"
+    options = ["--quality", "balanced", "--vectors", vectors, "--frames", "1-12"]
+    single = tmp_path / "single" / "o.####.exr"
+    report = json.loads(run("denoise", noisy, single, *options, "--json").stdout)["results"]
+    assert report["hybrid.motion_compensation"] == "the renderer's motion vectors"
+    plan = tmp_path / "plan.json"
+    run("plan", noisy, tmp_path / "farm" / "o.####.exr", *options, "--frames-per-task", "4", "-o", plan, "--quiet")
+    written = json.loads(plan.read_text())
+    assert written["kind"] == "window"
+    assert written["front_end"]["inputs"] == {"vectors": str(vectors)}
+    shell_run(plan)
+    assert json.loads(run("compare", tmp_path / "farm" / "o.####.exr", single, "--json").stdout)["rel_mse"] == 0
+    analysis = json.loads((plan_files(plan) / "task-0.json").read_text())
+    assert analysis["phase"] == "analysis"
+    assert analysis["results"]["hybrid.motion_compensation"] == "the renderer's motion vectors"
+    # Vectors of another size: refused when the plan is written, before any task.
+    bad = run("plan", noisy, tmp_path / "bad" / "o.####.exr", "--quality", "balanced", "--frames", "1-12",
+              "--vectors", scene / "spp0016" / "indirect.####.exr", "-o", tmp_path / "bad.json", check_rc=1)
+    assert "vectors" in bad.stderr and not (tmp_path / "bad.json").exists()
 
 
 def test_rerunning_finished_tasks_changes_nothing(sample_noisy, tmp_path):

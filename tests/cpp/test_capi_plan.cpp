@@ -304,6 +304,35 @@ TEST(Plan, BadArgumentsAreRefusedBeforeAnythingIsWritten) {
                    {"not a statfilter plan"});
 }
 
+// A plan's tasks read every input from files: a pass in the caller's memory is refused (naming the
+// call that gives it as files), a pass that does not match the input is refused before the plan is
+// written, and one given as files reaches the plan's front end.
+TEST(Plan, TheRenderersPassesReachThePlanAsFilesOnly) {
+    TempDir dir;
+    const std::string in = write_shot(dir, 4);
+    sf_filter f = nullptr;
+    ASSERT_SF_OK(sf_filter_create("hybrid", &f));
+    Filt filter(f);
+    const std::string out = dir.file("out.####.exr"), plan = dir.file("plan.json");
+    Seq albedo = filled_sequence(shape_of(4, 12, 10, 3), [](int64_t, int64_t, int64_t x, int64_t) { return 0.1f * x; });
+    ASSERT_SF_OK(sf_filter_set_input(filter.get(), "albedo", albedo.get()));
+    expect_failure(sf_plan_write(filter.get(), in.c_str(), nullptr, out.c_str(), nullptr, nullptr, nullptr, plan.c_str()),
+                   SF_ERROR_INVALID_ARGUMENT, {"'albedo' is in memory", "sf_filter_set_input_files"});
+    const std::string missing = dir.file("missing.####.exr");
+    ASSERT_SF_OK(sf_filter_set_input_files(filter.get(), "albedo", missing.c_str()));
+    EXPECT_NE(sf_plan_write(filter.get(), in.c_str(), nullptr, out.c_str(), nullptr, nullptr, nullptr, plan.c_str()), SF_OK);
+    EXPECT_FALSE(fs::exists(plan));
+    const std::string pass = dir.file("albedo.####.exr");
+    const sf_write_options o = write_options(SF_PIXEL_FLOAT);
+    for (int64_t i = 0; i < 4; ++i) ASSERT_SF_OK(sf_sequence_set_frame_number(albedo.get(), i, i + 1));
+    ASSERT_SF_OK(sf_sequence_write(albedo.get(), pass.c_str(), &o));
+    ASSERT_SF_OK(sf_filter_set_input_files(filter.get(), "albedo", pass.c_str()));
+    ASSERT_SF_OK(sf_plan_write(filter.get(), in.c_str(), nullptr, out.c_str(), nullptr, nullptr, nullptr, plan.c_str()));
+    const std::string text = read_text(plan);
+    EXPECT_NE(text.find("\"inputs\": {\"albedo\": "), std::string::npos) << text.substr(0, 600);
+    EXPECT_NE(text.find("albedo.####.exr"), std::string::npos);
+}
+
 // plan->images: error-threshold's rank map written by the plan's images task from the bands' rows,
 // the values sf_filter_run's result holds; a caller built before the field (a smaller struct_size)
 // still gets its plan; bad image lists are refused before the plan is written.

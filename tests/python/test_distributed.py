@@ -47,6 +47,21 @@ def test_plans_say_what_is_tiled(shared_data, tmp_path):
     assert kinds == {"pca": "tiles", "fast": "tiles", "copy": "frames", "balanced": "window", "moving": "tiles"}
 
 
+def test_a_plan_reads_the_renderers_vectors_from_files(shared_data, tmp_path):
+    src = scene(shared_data)
+    vectors = os.path.join(shared_data, "cornell_moving", "aux", "vector.####.exr")
+    if not os.path.exists(statfilter.pattern_format(vectors, 1)):
+        pytest.skip("no %s" % vectors)
+    plan = sd.write_plan(src, str(tmp_path / "o.####.exr"), str(tmp_path / "p.json"), quality="balanced",
+                         inputs={"vectors": vectors})
+    assert plan["kind"] == "window" and plan["front_end"]["inputs"] == {"vectors": os.path.abspath(vectors)}
+    # Vectors of another size are refused when the plan is written.
+    with pytest.raises(statfilter.InvalidArgumentError, match="vectors"):
+        sd.write_plan(src, str(tmp_path / "b.####.exr"), str(tmp_path / "b.json"), quality="balanced",
+                      inputs={"vectors": src})
+    assert not (tmp_path / "b.json").exists()
+
+
 def test_a_plan_writes_the_rank_map_the_single_run_makes(shared_data, tmp_path):
     src = scene(shared_data)
     results = statfilter.Filter("error-threshold", firefly_z=0).run_files(src, str(tmp_path / "single" / "o.####.exr"))

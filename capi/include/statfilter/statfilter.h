@@ -317,8 +317,9 @@ SF_API sf_status sf_memory_size_parse(const char* text, int64_t* bytes);
  * shot is more than one band); the hybrid and the auto presets add a sliding window of frames;
  * per-frame filters run frame by frame; a prefilter and postfilter run frame by frame around them.
  * The renderer's passes (named inputs, in memory or sf_filter_set_input_files) are read beside the
- * input the same way. Other runs (motion, detect) hold the whole shot in memory. Everything that can
- * be checked is checked before the first pixel is read:
+ * input the same way. Other runs hold the whole shot in memory and read their passes whole: motion,
+ * detect, and the hybrid (or a preset) with motion_compensation=off, shared_basis=0 or a repair
+ * prefilter. Everything that can be checked is checked before the first pixel is read:
  * the filter's parameters and its pre/postfilter, every input frame's header, the output pattern,
  * compression and directory (created when missing), that the output is not the input (unless
  * run->overwrite), that no other run writes the same output, and that the run fits run->memory
@@ -363,8 +364,9 @@ SF_API void sf_plan_options_init(sf_plan_options* options);
  * past 32 bands "sum" tasks first sum contiguous runs of them, and the reduction waits for those),
  * "reconstruct" tasks after it (one per band, reading its halo rows too), then "assemble" tasks (each
  * writes its chunk of output frames from the bands). A per-frame filter is cut into chunks of frames
- * ("frames" tasks, independent). The hybrid and auto with quality=balanced (motion compensation, no
- * renderer passes) run as an "analysis" task, then chunks of frames (docs/distributed.md). Any other
+ * ("frames" tasks, independent). The hybrid and auto with quality=balanced (motion compensation) run
+ * as an "analysis" task, then chunks of frames (docs/distributed.md); their renderer's passes must be
+ * files (sf_filter_set_input_files: the tasks open them; a pass in memory is refused). Any other
  * filter is one "shot" task. Each task lists the tasks it
  * must run "after". run->memory and run->threads are each task's defaults. Checked before the plan is
  * written, as sf_filter_run checks before work: the filter, every input frame's header, the output
@@ -480,7 +482,8 @@ SF_API sf_status sf_filter_set_input(sf_filter filter, const char* name, sf_sequ
  * presets' "albedo", "normal", "vectors") streams within its memory budget too; sf_filter_execute
  * reads it whole. The files are opened and checked against the input (frames, width, height; the
  * vectors' four channels X, Y, Z, W) when the run starts, before any work. It replaces a sequence set
- * under that name with sf_filter_set_input (and is replaced by one); pattern NULL or "" clears it.
+ * under that name with sf_filter_set_input (and is replaced by one; sf_filter_set_input with NULL
+ * clears both); pattern NULL or "" clears it. A plan (sf_plan_write) takes passes only this way.
  * The filter keeps a copy of the pattern. A name the filter does not take fails with
  * SF_ERROR_NOT_FOUND listing the names it takes. */
 SF_API sf_status sf_filter_set_input_files(sf_filter filter, const char* name, const char* pattern);
