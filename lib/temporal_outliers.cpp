@@ -14,6 +14,8 @@ namespace statfilter {
 
 namespace {
 
+constexpr double kTileBytes = 64.0 * 1024 * 1024;  // a worker's firefly-search tile, at most
+
 // Visits a pixel's neighbours among the 8 around p inside the frame (3 at a corner).
 template <class Visit>
 void for_each_neighbour(int64_t p, int64_t width, int64_t height, Visit&& visit) {
@@ -159,9 +161,12 @@ std::vector<TemporalOutlier> find_temporal_outliers(const Sequence& seq, Channel
     std::vector<float> residual_median(median.size()), residual_deviation(median.size());
     // A tile's buffers: its samples with the rows around it, and its residuals; the rows around it
     // come out of the budget first, so a tile of a wide frame stays within it.
+    // A worker's share is capped (kTileBytes): every series is judged on its own, so the tile size
+    // changes no result, and tiles of hundreds of MiB each cost more in first-touch page faults and
+    // cache misses than the two halo rows that smaller tiles read again.
     const double halo_bytes = static_cast<double>(2 * s.width + 2) * static_cast<double>(F * C) * sizeof(double);
-    const std::vector<PixelRange> tiles =
-        make_pixel_tiles(s, C, std::max(0.0, o.budget_bytes / resolve_threads(0) - halo_bytes), 2);
+    const double share = std::min(o.budget_bytes / resolve_threads(0), kTileBytes);
+    const std::vector<PixelRange> tiles = make_pixel_tiles(s, C, std::max(0.0, share - halo_bytes), 2);
     // A worker's tile buffers are made once: the tiles are the same size but the last.
     struct TileBuffers {
         std::vector<double> tile, residuals;
