@@ -63,15 +63,17 @@ double log_epsilon(const std::vector<double>& u, const DiffusionOptions& o) {
 }
 
 // The explicit steps on width x height pixels whose rows start `stride` pixels apart (a window of a
-// larger frame), written back to the rows and columns of `keep` (window coordinates), with the
-// frame's eps and K (diffusion_scale: a window of a larger frame diffuses with its frame's).
+// larger frame), the rows and columns of `keep` (window coordinates) written to `out` (its rows
+// `out_stride` pixels apart; `in` itself for a diffusion in place), with the frame's eps and K
+// (diffusion_scale: a window of a larger frame diffuses with its frame's).
 //
 // A step goes down the rows once: row y's log values, edge weights and new values are made from two
 // rows of log values and of south weights, not whole images of them. The arithmetic of each sample
 // is the same as a whole image at a time, so are the bits; the working set is two images (u and the
 // next step) and a few rows.
-void diffuse(float* pixels, int64_t stride, int64_t width, int64_t height, int64_t channels, const PixelBox& keep,
-             const DiffusionOptions& o, const DiffusionScale& scale, DiffusionWorkspace& work) {
+void diffuse(const float* in, int64_t stride, int64_t width, int64_t height, int64_t channels, const PixelBox& keep,
+             float* out, int64_t out_stride, const DiffusionOptions& o, const DiffusionScale& scale,
+             DiffusionWorkspace& work) {
     const int64_t n = width * height * channels;
     const int64_t row = width * channels;
     const double eps = scale.eps, k = scale.k;
@@ -81,7 +83,7 @@ void diffuse(float* pixels, int64_t stride, int64_t width, int64_t height, int64
     u.resize(static_cast<size_t>(n));
     next.resize(static_cast<size_t>(n));
     for (int64_t y = 0; y < height; ++y)
-        std::copy_n(pixels + y * stride * channels, row, u.begin() + y * row);
+        std::copy_n(in + y * stride * channels, row, u.begin() + y * row);
     // The values the conductances are computed on: the log image, or u itself.
     const bool separate = o.log_domain && o.conserve;
     if (o.log_domain && !separate) fast_math::signed_log1p(u.data(), u.size(), 1.0 / eps);
@@ -176,9 +178,11 @@ void diffuse(float* pixels, int64_t stride, int64_t width, int64_t height, int64
     }
     constexpr double lim = 3.4028234663852886e38;
     if (o.log_domain && !separate) fast_math::signed_expm1(u.data(), u.size(), eps);
-    for (int64_t y = keep.y0; y < keep.y1; ++y)
+    for (int64_t y = keep.y0; y < keep.y1; ++y) {
+        float* to = out + (y - keep.y0) * out_stride * channels;
         for (int64_t i = (y * width + keep.x0) * channels, end = (y * width + keep.x1) * channels; i < end; ++i)
-            pixels[y * stride * channels + i - y * width * channels] = static_cast<float>(std::clamp(u[i], -lim, lim));
+            *to++ = static_cast<float>(std::clamp(u[i], -lim, lim));
+    }
 }
 
 }  // namespace
@@ -205,7 +209,7 @@ void diffuse_frame(float* pixels, int64_t width, int64_t height, int64_t channel
                    DiffusionWorkspace& ws) {
     check_options(o);
     const DiffusionScale scale = diffusion_scale(pixels, width, height, channels, o, ws);
-    diffuse(pixels, width, width, height, channels, PixelBox{0, 0, width, height}, o, scale, ws);
+    diffuse(pixels, width, width, height, channels, PixelBox{0, 0, width, height}, pixels, width, o, scale, ws);
 }
 
 void diffuse_frame(float* pixels, int64_t width, int64_t height, int64_t channels, const DiffusionOptions& o) {
@@ -226,13 +230,24 @@ void diffuse_region(float* pixels, int64_t width, int64_t height, int64_t channe
     if (region.x0 < 0 || region.y0 < 0 || region.x1 > width || region.y1 > height)
         throw Error(Status::InvalidArgument, "diffuse_region: the region is not inside the frame");
     const DiffusionScale scale = diffusion_scale(pixels, width, height, channels, o, ws);
+    diffuse_box(pixels, width, height, channels, region, o, scale, ws, pixels + (region.y0 * width + region.x0) * channels,
+                width);
+}
+
+void diffuse_box(const float* pixels, int64_t width, int64_t height, int64_t channels, const PixelBox& region,
+                 const DiffusionOptions& o, const DiffusionScale& scale, DiffusionWorkspace& ws, float* out,
+                 int64_t out_stride) {
+    check_options(o);
+    if (region.x0 >= region.x1 || region.y0 >= region.y1) return;
+    if (region.x0 < 0 || region.y0 < 0 || region.x1 > width || region.y1 > height)
+        throw Error(Status::InvalidArgument, "diffuse_box: the box is not inside the frame");
     // Each step reaches one pixel further, so the region grown by the steps sees what the whole frame
     // would; the window's own border (Neumann) stays in that margin.
     const int64_t m = o.iterations;
     const int64_t x0 = std::max<int64_t>(0, region.x0 - m), y0 = std::max<int64_t>(0, region.y0 - m);
     const int64_t x1 = std::min(width, region.x1 + m), y1 = std::min(height, region.y1 + m);
     diffuse(pixels + (y0 * width + x0) * channels, width, x1 - x0, y1 - y0, channels,
-            PixelBox{region.x0 - x0, region.y0 - y0, region.x1 - x0, region.y1 - y0}, o, scale, ws);
+            PixelBox{region.x0 - x0, region.y0 - y0, region.x1 - x0, region.y1 - y0}, out, out_stride, o, scale, ws);
 }
 
 }  // namespace statfilter

@@ -188,25 +188,6 @@ std::vector<int64_t> crossing_pixels(const std::vector<float>& weight) {
     return pixels;
 }
 
-PixelBox crossing_box(const std::vector<int64_t>& pixels, int64_t width) {
-    PixelBox box;
-    if (pixels.empty() || width <= 0) return box;
-    box.x0 = width, box.y0 = pixels.front() / width, box.y1 = pixels.back() / width + 1;  // pixels in order
-    for (const int64_t p : pixels) box.x0 = std::min(box.x0, p % width), box.x1 = std::max(box.x1, p % width + 1);
-    return box;
-}
-
-void blend_own_first_pass(const std::vector<int64_t>& pixels, const std::vector<float>& weight, const float* own,
-                          int64_t channels, float* first_pass) {
-    for (const int64_t p : pixels) {
-        const float w = weight[static_cast<size_t>(p)];
-        for (int64_t c = 0; c < channels; ++c) {
-            float& e = first_pass[p * channels + c];
-            e += w * (own[p * channels + c] - e);
-        }
-    }
-}
-
 std::shared_ptr<Sequence> compute_alpha(PreparedSeries& series, const TemporalBasis& basis, const ParamSet& params,
                                         const ProgressSpan& progress) {
     const RankChoice rank = gavish_donoho_rank(basis.eigenvalues, basis.series, basis.frames);

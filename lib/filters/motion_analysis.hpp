@@ -80,12 +80,6 @@ TemporalChangeOptions temporal_change_options(const ParamSet& params, bool prefi
 // own diffusion (filters/hybrid_stage.hpp). The pixels with a weight above 0, in order.
 std::vector<float> crossing_weight(const Sequence& change, const Sequence& alpha);
 std::vector<int64_t> crossing_pixels(const std::vector<float>& weight);
-// The box around those pixels in a frame `width` wide: the frame's own diffusion is needed there only
-// (diffuse_region).
-PixelBox crossing_box(const std::vector<int64_t>& pixels, int64_t width);
-// first_pass += weight (own - first_pass) at those pixels: both frames contiguous (pixel, channel).
-void blend_own_first_pass(const std::vector<int64_t>& pixels, const std::vector<float>& weight, const float* own,
-                          int64_t channels, float* first_pass);
 
 // A renderer pass (albedo, normal) for the input's frames, read from a file pattern; its frames and
 // size must match the input's.

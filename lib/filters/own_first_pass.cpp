@@ -40,9 +40,52 @@ int64_t OwnFirstPass::apply(int64_t f, float* frame, const float* model, float* 
         weight = &frame_weight, pixels = &frame_pixels;
     }
     if (pixels->empty()) return 0;
-    diffuse_region(frame, W, shape_.height, C, crossing_box(*pixels, W), diffusion_, workspace);
-    blend_own_first_pass(*pixels, *weight, frame, C, first_pass);
+    // Only these pixels need the frame's diffusion: it runs on the boxes that hold them (a box of
+    // the whole frame's bounding box of them cost a fifth of a balanced run for 5% of its pixels).
+    // Each pixel's value is the whole frame's diffusion there, bit for bit, whatever the boxes.
+    const DiffusionScale scale = diffusion_scale(frame, W, shape_.height, C, diffusion_, workspace);
+    std::vector<float> own;
+    for (const PixelBox& box : boxes_around(*pixels, W, shape_.height)) {
+        const int64_t bw = box.x1 - box.x0;
+        own.resize(static_cast<size_t>((box.y1 - box.y0) * bw * C));
+        diffuse_box(frame, W, shape_.height, C, box, diffusion_, scale, workspace, own.data(), bw);
+        for (int64_t y = box.y0; y < box.y1; ++y) {
+            auto p = std::lower_bound(pixels->begin(), pixels->end(), y * W + box.x0);
+            for (; p != pixels->end() && *p < y * W + box.x1; ++p) {
+                const float w = (*weight)[static_cast<size_t>(*p)];
+                const float* v = &own[static_cast<size_t>(((y - box.y0) * bw + (*p - y * W - box.x0)) * C)];
+                for (int64_t c = 0; c < C; ++c) {
+                    float& e = first_pass[*p * C + c];
+                    e += w * (v[c] - e);
+                }
+            }
+        }
+    }
     return static_cast<int64_t>(pixels->size());
+}
+
+std::vector<PixelBox> OwnFirstPass::boxes_around(const std::vector<int64_t>& pixels, int64_t width, int64_t height) {
+    // Bands of kBox rows; in each, the runs of kBox-wide columns that hold a pixel, one box a run
+    // (joined, so that neighbours share their margins).
+    std::vector<PixelBox> boxes;
+    const int64_t columns = (width + kBox - 1) / kBox;
+    std::vector<uint8_t> used(static_cast<size_t>(columns));
+    size_t i = 0;
+    while (i < pixels.size()) {
+        const int64_t band = pixels[i] / width / kBox, y0 = band * kBox;
+        std::fill(used.begin(), used.end(), 0);
+        for (; i < pixels.size() && pixels[i] / width / kBox == band; ++i) used[static_cast<size_t>(pixels[i] % width / kBox)] = 1;
+        for (int64_t c = 0; c < columns;) {
+            if (!used[static_cast<size_t>(c)]) {
+                ++c;
+                continue;
+            }
+            const int64_t c0 = c;
+            while (c < columns && used[static_cast<size_t>(c)]) ++c;
+            boxes.push_back({c0 * kBox, y0, std::min(width, c * kBox), std::min(height, y0 + kBox)});
+        }
+    }
+    return boxes;
 }
 
 }  // namespace statfilter

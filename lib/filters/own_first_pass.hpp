@@ -23,7 +23,7 @@ public:
     // pixels); moving: the moving region, per pixel.
     OwnFirstPass(const Shape& shape, std::vector<float> crossings, const TemporalChange* change,
                  const std::vector<uint8_t>& moving, int64_t half_width, DiffusionOptions diffusion);
-    // Frame f: `frame` is the noisy frame (fireflies replaced; diffused here, in place, where needed),
+    // Frame f: `frame` is the noisy frame (fireflies replaced; diffused here where needed, not written),
     // `model` I_T, `first_pass` blended; `workspace` the diffusion's buffers (a caller that does frame
     // after frame keeps them). Returns the number of pixels given their own diffusion.
     int64_t apply(int64_t f, float* frame, const float* model, float* first_pass, DiffusionWorkspace& workspace) const;
@@ -33,6 +33,10 @@ public:
     static double working_bytes(const Shape& shape);
     // Bytes held per pixel for the whole rebuild (the weights and masks).
     static double held_bytes_per_pixel() { return sizeof(float) + 2 + sizeof(int64_t); }
+    // The boxes apply diffuses: bands of kBox rows, in each the runs of kBox-wide columns holding one
+    // of the pixels (sorted indices of a width x height frame).
+    static constexpr int64_t kBox = 32;
+    static std::vector<PixelBox> boxes_around(const std::vector<int64_t>& pixels, int64_t width, int64_t height);
 
 private:
     Shape shape_;

@@ -67,6 +67,12 @@ void diffuse_region(float* pixels, int64_t width, int64_t height, int64_t channe
                     const DiffusionOptions& options);
 void diffuse_region(float* pixels, int64_t width, int64_t height, int64_t channels, const PixelBox& region,
                     const DiffusionOptions& options, DiffusionWorkspace& workspace);
+// One box of the frame diffused as diffuse_region diffuses it, with the frame's scale given (measured
+// once for many boxes), the frame read only: the box's pixels go to `out`, rows out_stride pixels
+// apart. Boxes of one frame may overlap in their margins, since none writes into the frame.
+void diffuse_box(const float* pixels, int64_t width, int64_t height, int64_t channels, const PixelBox& region,
+                 const DiffusionOptions& options, const DiffusionScale& scale, DiffusionWorkspace& workspace,
+                 float* out, int64_t out_stride);
 // The bytes diffuse_frame holds besides the frame itself, at most: the frame and the next step in
 // double and the gradient spread's sample (a double a pixel). Counted as three images and two doubles
 // a pixel, as when the log image and the conductances were whole images: an upper bound kept so that

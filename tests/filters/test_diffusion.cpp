@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <opencv2/ximgproc.hpp>
+#include <cstring>
 #include <limits>
 #include <random>
 
@@ -191,7 +192,8 @@ TEST(Diffusion, LogDomainKeepsEachFramesLightAndSign) {
 
 // A region diffused alone has the whole frame's diffusion there, bit for bit (the hybrid diffuses a
 // frame only around the pixels it needs), in every flux and domain, at the frame's borders and corners
-// and for a region of one pixel; the pixels outside the region are left as they were.
+// and for a region of one pixel; the pixels outside the region are left as they were. diffuse_box
+// gives the same values into a buffer of its own and leaves the frame as it was.
 TEST(Diffusion, ARegionHasTheWholeFramesValues) {
     const int64_t W = 53, H = 41, C = 3;
     std::vector<float> frame(static_cast<size_t>(W * H * C));
@@ -201,11 +203,12 @@ TEST(Diffusion, ARegionHasTheWholeFramesValues) {
     frame[5] = std::numeric_limits<float>::quiet_NaN();  // a non-finite sample counts nowhere in the scale
     const PixelBox boxes[] = {{10, 7, 30, 25}, {0, 0, 6, 4}, {40, 30, 53, 41}, {22, 18, 23, 19}, {0, 0, 53, 41}};
     for (const bool perona : {true, false})
-        for (const bool log_domain : {true, false})
+        for (const int domain : {0, 1, 2})  // linear; log conductances on linear values (conserve); log
             for (const int iterations : {0, 1, 10}) {
                 DiffusionOptions o;
                 o.flux = perona ? DiffusionFlux::PeronaMalik : DiffusionFlux::Study;
-                o.log_domain = log_domain;
+                o.log_domain = domain > 0;
+                o.conserve = domain == 1;
                 o.iterations = iterations;
                 std::vector<float> whole = frame;
                 diffuse_frame(whole.data(), W, H, C, o);
@@ -230,6 +233,20 @@ TEST(Diffusion, ARegionHasTheWholeFramesValues) {
                     if (iterations > 0) {
                         EXPECT_GT(changed, 0);  // the test compares a diffusion, not a copy
                     }
+                    // diffuse_box: the same values into a buffer of the box, the frame only read.
+                    const std::vector<float> before = frame;
+                    const int64_t bw = b.x1 - b.x0;
+                    std::vector<float> own(static_cast<size_t>((b.y1 - b.y0) * bw * C), -1.0f);
+                    DiffusionWorkspace ws;
+                    diffuse_box(frame.data(), W, H, C, b, o, diffusion_scale(frame.data(), W, H, C, o, ws), ws, own.data(), bw);
+                    ASSERT_EQ(std::memcmp(frame.data(), before.data(), frame.size() * sizeof(float)), 0);  // NaN too
+                    for (int64_t y = b.y0; y < b.y1; ++y)
+                        for (int64_t i = 0; i < bw * C; ++i) {
+                            const float want = whole[static_cast<size_t>((y * W + b.x0) * C + i)];
+                            const float got = own[static_cast<size_t>((y - b.y0) * bw * C + i)];
+                            if (std::isnan(want)) ASSERT_TRUE(std::isnan(got));
+                            else ASSERT_EQ(got, want) << "diffuse_box " << b.x0 << "," << b.y0 << " row " << y;
+                        }
                 }
             }
     std::vector<float> part = frame;

@@ -12,6 +12,7 @@
 #include <random>
 
 #include "filter_runner.hpp"
+#include "filters/own_first_pass.hpp"
 #include "statfilter/motion.hpp"
 #include "statfilter/sequence_io.hpp"
 
@@ -284,4 +285,33 @@ TEST(TemporalChange, GrowsFromAStrongChangeIntoAFaintOneButNotIntoAFaintOneAlone
     EXPECT_GT(alone(*low), 0.6);
     EXPECT_GT(rest(*low), 0.0);
     EXPECT_EQ(rest(*plain), 0.0);
+}
+
+// The boxes the frame's own diffusion runs on hold every pixel that needs it, inside the frame, apart
+// from each other, and for a moving edge cover a small part of the bounding box the pixels span.
+TEST(OwnFirstPass, TheBoxesHoldEveryPixelAndLittleElse) {
+    const int64_t W = 301, H = 203;
+    std::vector<int64_t> pixels;
+    for (int64_t y = 0; y < H; ++y)
+        for (int64_t x = 0; x < W; ++x)
+            if (std::abs(x - (y + 40)) < 3 || (x == W - 1 && y == H - 1) || (x == 0 && y == 0)) pixels.push_back(y * W + x);
+    const std::vector<PixelBox> boxes = OwnFirstPass::boxes_around(pixels, W, H);
+    int64_t area = 0;
+    for (size_t i = 0; i < boxes.size(); ++i) {
+        const PixelBox& b = boxes[i];
+        ASSERT_TRUE(b.x0 >= 0 && b.y0 >= 0 && b.x1 <= W && b.y1 <= H && b.x0 < b.x1 && b.y0 < b.y1) << "box " << i;
+        area += (b.x1 - b.x0) * (b.y1 - b.y0);
+        for (size_t j = 0; j < i; ++j) {
+            const PixelBox& o = boxes[j];
+            EXPECT_FALSE(b.x0 < o.x1 && o.x0 < b.x1 && b.y0 < o.y1 && o.y0 < b.y1) << "boxes " << j << " and " << i;
+        }
+    }
+    for (const int64_t p : pixels) {
+        const int64_t x = p % W, y = p / W;
+        EXPECT_TRUE(std::any_of(boxes.begin(), boxes.end(),
+                                [&](const PixelBox& b) { return x >= b.x0 && x < b.x1 && y >= b.y0 && y < b.y1; }))
+            << "pixel " << x << "," << y;
+    }
+    EXPECT_LT(area, W * H / 3);  // the diagonal's bounding box is the whole frame
+    EXPECT_TRUE(OwnFirstPass::boxes_around({}, W, H).empty());
 }
