@@ -438,7 +438,9 @@ HybridAnalysis HybridStage::analyse_passes(const FrameSource& source, const Stag
     }
     // And where the renderer's passes say so (read in bands as the input was; none held past here).
     if (passes_show_motion(ctx.passes, options_.passes)) {
-        const double kept = stats.keep && !source.in_memory() ? static_cast<double>(F * P * C) * sizeof(float) : 0.0;
+        // A kept band (the shot fits) stays held with its prepared tiles: counted as the statistics
+        // pass counted it when it chose to keep it.
+        const double kept = stats.keep && !source.in_memory() ? static_cast<double>(H) * temporal.band_row_bytes(s) : 0.0;
         raise_by_passes(&weight->at(0, 0, 0, 0), s, ctx.passes, options_.passes, inner.budget_bytes - maps_bytes(s) - kept,
                         ctx.threads, {progress, 0.3, 0.0, "motion"});
     }
