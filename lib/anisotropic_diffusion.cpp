@@ -1,6 +1,7 @@
 #include "statfilter/anisotropic_diffusion.hpp"
 
 #include <algorithm>
+#include <cstring>
 #include <cmath>
 #include <vector>
 
@@ -77,7 +78,12 @@ void diffuse(const float* in, int64_t stride, int64_t width, int64_t height, int
     const int64_t n = width * height * channels;
     const int64_t row = width * channels;
     const double eps = scale.eps, k = scale.k;
-    if (n == 0 || !(k > 0)) return;  // a flat frame: nothing to diffuse
+    if (n == 0 || !(k > 0)) {  // a flat frame: nothing to diffuse, the kept box as it is
+        for (int64_t y = keep.y0; y < keep.y1; ++y)
+            std::memmove(out + (y - keep.y0) * out_stride * channels, in + (y * stride + keep.x0) * channels,
+                         static_cast<size_t>((keep.x1 - keep.x0) * channels) * sizeof(float));
+        return;
+    }
     std::vector<double>& u = work.u;
     std::vector<double>& next = work.next;
     u.resize(static_cast<size_t>(n));

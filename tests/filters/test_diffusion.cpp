@@ -253,6 +253,30 @@ TEST(Diffusion, ARegionHasTheWholeFramesValues) {
     EXPECT_THROW(diffuse_region(part.data(), W, H, C, PixelBox{0, 0, W + 1, H}, DiffusionOptions()), Error);
 }
 
+// A frame more than half zeros (a render over black) has no edge scale: diffusion leaves it as it is,
+// and diffuse_box hands the box's own values on, not the buffer's old contents.
+TEST(Diffusion, AFlatFramesBoxIsItsOwnValues) {
+    const int64_t W = 30, H = 20, C = 3;
+    std::vector<float> frame(static_cast<size_t>(W * H * C), 0.0f);
+    for (int64_t y = 14; y < H; ++y)
+        for (int64_t i = 0; i < W * C; ++i) frame[static_cast<size_t>(y * W * C + i)] = 0.5f + 0.01f * static_cast<float>(i);
+    DiffusionOptions o;
+    DiffusionWorkspace ws;
+    const DiffusionScale scale = diffusion_scale(frame.data(), W, H, C, o, ws);
+    ASSERT_FALSE(scale.k > 0);
+    const PixelBox box{3, 12, 17, 18};
+    const int64_t bw = box.x1 - box.x0;
+    std::vector<float> own(static_cast<size_t>((box.y1 - box.y0) * bw * C), -7.0f);
+    diffuse_box(frame.data(), W, H, C, box, o, scale, ws, own.data(), bw);
+    for (int64_t y = box.y0; y < box.y1; ++y)
+        for (int64_t i = 0; i < bw * C; ++i)
+            ASSERT_EQ(own[static_cast<size_t>((y - box.y0) * bw * C + i)], frame[static_cast<size_t>((y * W + box.x0) * C + i)])
+                << "row " << y;
+    std::vector<float> whole = frame;
+    diffuse_frame(whole.data(), W, H, C, o);
+    EXPECT_EQ(whole, frame);
+}
+
 // A workspace kept from call to call (a frame stage diffusing frame after frame) gives the bits a
 // new one gives, whatever it held before: a larger frame, a region, another domain, a flat frame.
 TEST(Diffusion, AKeptWorkspaceGivesTheBitsOfANewOne) {
