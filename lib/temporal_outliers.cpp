@@ -165,7 +165,8 @@ std::vector<TemporalOutlier> find_temporal_outliers(const Sequence& seq, Channel
     // changes no result, and tiles of hundreds of MiB each cost more in first-touch page faults and
     // cache misses than the two halo rows that smaller tiles read again.
     const double halo_bytes = static_cast<double>(2 * s.width + 2) * static_cast<double>(F * C) * sizeof(double);
-    const double share = std::min(o.budget_bytes / resolve_threads(0), kTileBytes);
+    // (Never below 8 halos: a long, wide shot's halo rows alone can near the cap.)
+    const double share = std::min(o.budget_bytes / resolve_threads(0), std::max(kTileBytes, 8 * halo_bytes));
     const std::vector<PixelRange> tiles = make_pixel_tiles(s, C, std::max(0.0, share - halo_bytes), 2);
     // A worker's tile buffers are made once: the tiles are the same size but the last.
     struct TileBuffers {
