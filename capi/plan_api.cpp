@@ -282,17 +282,18 @@ sf_status sf_plan_write(sf_filter filter, const char* input_pattern, const sf_re
         checks.width = source->shape().width;
         checks.height = source->shape().height;
         checks.input_pattern = in;
-        open_frame_sink(out, wo, source->attributes(), checks);  // the output's checks, now; nothing written
         // The tasks read every input from files: a pass in the caller's memory cannot reach them.
         for (const std::string& input : handle.filter->input_names())
             if (handle.filter->input(input))
                 throw Error(Status::InvalidArgument, "the filter's input '" + input + "' is in memory, which a plan's tasks "
                                                      "cannot read: give it as files (sf_filter_set_input_files)");
         open_guide_sources(*handle.filter, *source);  // the renderer's passes checked against the input, now
+        open_frame_sink(out, wo, source->attributes(), checks);  // the output's checks, now; nothing written
         std::string stamp = input_files_stamp(in, source->attributes().frame_numbers());
-        for (const std::string& input : handle.filter->input_names())  // passes rendered again: another run
-            if (!handle.filter->input_files(input).empty())
-                stamp += input_files_stamp(absolute(handle.filter->input_files(input)), source->attributes().frame_numbers());
+        for (const std::string& input : handle.filter->input_names()) {  // passes rendered again: another run
+            const std::string pattern = guide_pattern(*handle.filter, input);
+            if (!pattern.empty()) stamp += input_files_stamp(absolute(pattern), source->attributes().frame_numbers());
+        }
         PlanRequest request;
         request.images = image_outputs(p, in, out);
         request.input = in;

@@ -562,9 +562,11 @@ std::string run_plan_task(const JsonValue& plan, int64_t index, const TaskContex
                              : plan_budget > 0       ? plan_budget
                                                      : static_cast<double>(default_memory_budget());
     run.stage.progress = &context.progress;
-    // The renderer's passes the plan's filter names, opened and checked before any work (a window
-    // plan's analysis reads them in bands, its window tasks each frame's; a shot task's run opens its own).
-    const OpenGuides guides = open_guide_sources(*context.filter, *context.source);
+    // The renderer's passes the plan's filter names, opened and checked before any work by the
+    // window plan's tasks (the analysis reads them in bands, the window tasks each frame's); a shot
+    // task's run opens its own, the other phases read none.
+    const bool reads_passes = phase == "analysis" || phase == "first_pass" || phase == "guides" || phase == "window";
+    const OpenGuides guides = reads_passes ? open_guide_sources(*context.filter, *context.source) : OpenGuides();
     run.stage.passes = guides.view;
     if (phase == "statistics") statistics_task(run, task);
     else if (phase == "sum") sum_task(run, task);

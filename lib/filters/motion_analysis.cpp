@@ -69,14 +69,6 @@ void check_pass(const Sequence& input, const Sequence& pass, const std::string& 
 
 }  // namespace
 
-bool names_guide_passes(const Filter& filter, const ParamSet& params) {
-    for (const char* name : {"albedo", "normal", "vectors"})
-        if (filter.input(name) || !filter.input_files(name).empty()) return true;
-    for (const char* name : {"albedo", "normal"})
-        if (filter.takes_input(name) && params.has(name) && !params.get_string(name).empty()) return true;
-    return false;
-}
-
 void count_named_passes(const Filter& filter, const ParamSet& params, PassMotionOptions& options) {
     const auto named = [&](const std::string& name) {
         return filter.takes_input(name) &&

@@ -33,8 +33,6 @@ struct GuidePasses {
     bool surfaces() const { return albedo || normal; }
 };
 GuidePasses guide_passes(const Filter& filter, const Sequence& input, const ParamSet& params);
-// Whether any pass is named, without reading it.
-bool names_guide_passes(const Filter& filter, const ParamSet& params);
 // Which passes are named (options.named_vectors, named_surfaces), without opening them.
 void count_named_passes(const Filter& filter, const ParamSet& params, PassMotionOptions& options);
 // The file pattern pass `name` is given as (a named input's files, else for albedo and normal the

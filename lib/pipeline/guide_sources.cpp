@@ -7,6 +7,13 @@
 
 namespace statfilter {
 
+std::string guide_pattern(const Filter& filter, const std::string& name) {
+    if (!filter.takes_input(name)) return "";
+    std::string pattern = filter.input_files(name);
+    if (pattern.empty() && name != "vectors" && filter.params().has(name)) pattern = filter.params().get_string(name);
+    return pattern;
+}
+
 OpenGuides open_guide_sources(const Filter& filter, const FrameSource& input) {
     OpenGuides guides;
     const Shape& s = input.shape();
@@ -16,8 +23,7 @@ OpenGuides open_guide_sources(const Filter& filter, const FrameSource& input) {
         if (const Sequence* pass = filter.input(name)) {
             guides.held.push_back(memory_source(*pass));
         } else {
-            std::string pattern = filter.input_files(name);
-            if (pattern.empty() && name != "vectors" && filter.params().has(name)) pattern = filter.params().get_string(name);
+            const std::string pattern = guide_pattern(filter, name);
             if (pattern.empty()) return;
             what += " '" + pattern + "'";
             ReadOptions read;

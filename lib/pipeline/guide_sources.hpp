@@ -2,6 +2,7 @@
 // input: a stage reads their rows as it reads the input's, so a run given passes streams too.
 #pragma once
 #include <memory>
+#include <string>
 #include <vector>
 
 #include "pipeline/stage.hpp"
@@ -20,5 +21,8 @@ struct OpenGuides {
 // sequence is opened here, for the input's frame numbers, and every pass is checked against the
 // input (frames, width, height; the vectors' four channels) before any work.
 OpenGuides open_guide_sources(const Filter& filter, const FrameSource& input);
+// The file pattern of the named input `name`, as open_guide_sources reads it: the files given for it,
+// else (albedo, normal) its parameter; "" when it is given no files (or the filter does not take it).
+std::string guide_pattern(const Filter& filter, const std::string& name);
 
 }  // namespace statfilter

@@ -28,7 +28,7 @@ import time
 from typing import Any, Dict, List, Optional, Union
 
 from . import _capi
-from .errors import InvalidArgumentError, check, error_for
+from .errors import InvalidArgumentError, UnsupportedError, check, error_for
 from .filter import Filter
 from .sequence import _read_options, _write_options
 
@@ -84,26 +84,28 @@ def write_plan(input: str, output: str, plan_path: str, method: Optional[str] = 
     error-threshold, alpha of balanced and the hybrid; a .png path gets the false-colour picture).
     inputs: the filter's named inputs as file patterns, e.g. {"vectors": "vector.####.exr"} (the
     renderer's passes, read by the tasks beside the input)."""
-    flt = Filter(_method(method, params), **params)
-    for name, pattern in (inputs or {}).items():
-        check(_capi.lib.sf_filter_set_input_files(flt._live(), _capi.encode(str(name)), _capi.encode_path(pattern)),
-              flt._live())
-    run, plan, work = _plan_options(memory, threads, tiles, tile_rows, work_dir)
-    plan.frames_per_task = int(frames_per_task)
-    saves = list((save or {}).items())
-    keep_names = [(_capi.encode(n), _capi.encode_path(p)) for n, p in saves]
-    images = (_capi.sf_image_output * max(1, len(saves)))()
-    for i, (name, path) in enumerate(keep_names):
-        images[i].name, images[i].path = name, path
-    plan.images = ctypes.cast(images, ctypes.POINTER(_capi.sf_image_output))
-    plan.image_count = len(saves)
-    read, keep_read = _read_options(channels, frames)
-    write, keep_write = _write_options(pixel_type, compression)
-    status = _capi.lib.sf_plan_write(flt._live(), _capi.encode_path(input), ctypes.byref(read),
-                                     _capi.encode_path(output), ctypes.byref(write), ctypes.byref(run),
-                                     ctypes.byref(plan), _capi.encode_path(plan_path))
-    check(status, flt._live())
-    del keep_read, keep_write, work, keep_names, images
+    if inputs and not _capi.has("sf_filter_set_input_files"):
+        raise UnsupportedError("this statfilter library cannot read named inputs from files: update it")
+    with Filter(_method(method, params), **params) as flt:
+        for name, pattern in (inputs or {}).items():
+            check(_capi.lib.sf_filter_set_input_files(flt._live(), _capi.encode(str(name)), _capi.encode_path(pattern)),
+                  flt._live())
+        run, plan, work = _plan_options(memory, threads, tiles, tile_rows, work_dir)
+        plan.frames_per_task = int(frames_per_task)
+        saves = list((save or {}).items())
+        keep_names = [(_capi.encode(n), _capi.encode_path(p)) for n, p in saves]
+        images = (_capi.sf_image_output * max(1, len(saves)))()
+        for i, (name, path) in enumerate(keep_names):
+            images[i].name, images[i].path = name, path
+        plan.images = ctypes.cast(images, ctypes.POINTER(_capi.sf_image_output))
+        plan.image_count = len(saves)
+        read, keep_read = _read_options(channels, frames)
+        write, keep_write = _write_options(pixel_type, compression)
+        status = _capi.lib.sf_plan_write(flt._live(), _capi.encode_path(input), ctypes.byref(read),
+                                         _capi.encode_path(output), ctypes.byref(write), ctypes.byref(run),
+                                         ctypes.byref(plan), _capi.encode_path(plan_path))
+        check(status, flt._live())
+        del keep_read, keep_write, work, keep_names, images
     with open(plan_path) as f:
         return json.load(f)
 

@@ -162,6 +162,26 @@ def test_frames_rendered_again_make_another_run(sample_noisy, tmp_path):
     assert plan_files(plan) != first
 
 
+def test_passes_rendered_again_make_another_run(sample_noisy, tmp_path):
+    """A renderer's pass written again makes another run too, whether it is named by --albedo (a
+    parameter) or --vectors (a named input): the window tasks must not take the old run's analysis."""
+    aux = tmp_path / "aux"
+    aux.mkdir()
+    for f in sorted((SAMPLE / "cornell_moving" / "aux").glob("albedo.*.exr")):
+        shutil.copy(f, aux / f.name)
+    plan, work = tmp_path / "plan.json", tmp_path / "work"
+    args = ("plan", sample_noisy, tmp_path / "o.####.exr", "--method", "hybrid", "--albedo", aux / "albedo.####.exr",
+            "--work", work, "-o", plan, "--quiet")
+    run(*args)
+    first = plan_files(plan)
+    run(*args)
+    assert plan_files(plan) == first
+    frame = sorted(aux.glob("albedo.*.exr"))[3]
+    os.utime(frame, ns=(frame.stat().st_atime_ns, frame.stat().st_mtime_ns + 1_000_000_000))
+    run(*args)
+    assert plan_files(plan) != first
+
+
 def test_a_killed_task_leaves_no_frame_and_its_rerun_completes(sample_noisy, tmp_path):
     out = tmp_path / "farm" / "o.####.exr"
     plan = tmp_path / "plan.json"

@@ -313,7 +313,8 @@ TEST(Plan, TheRenderersPassesReachThePlanAsFilesOnly) {
     sf_filter f = nullptr;
     ASSERT_SF_OK(sf_filter_create("hybrid", &f));
     Filt filter(f);
-    const std::string out = dir.file("out.####.exr"), plan = dir.file("plan.json");
+    // The output's directory is new: a refused plan does not leave it behind.
+    const std::string out = dir.file("new/out.####.exr"), plan = dir.file("plan.json");
     Seq albedo = filled_sequence(shape_of(4, 12, 10, 3), [](int64_t, int64_t, int64_t x, int64_t) { return 0.1f * x; });
     ASSERT_SF_OK(sf_filter_set_input(filter.get(), "albedo", albedo.get()));
     expect_failure(sf_plan_write(filter.get(), in.c_str(), nullptr, out.c_str(), nullptr, nullptr, nullptr, plan.c_str()),
@@ -322,6 +323,7 @@ TEST(Plan, TheRenderersPassesReachThePlanAsFilesOnly) {
     ASSERT_SF_OK(sf_filter_set_input_files(filter.get(), "albedo", missing.c_str()));
     EXPECT_NE(sf_plan_write(filter.get(), in.c_str(), nullptr, out.c_str(), nullptr, nullptr, nullptr, plan.c_str()), SF_OK);
     EXPECT_FALSE(fs::exists(plan));
+    EXPECT_FALSE(fs::exists(dir.file("new")));
     const std::string pass = dir.file("albedo.####.exr");
     const sf_write_options o = write_options(SF_PIXEL_FLOAT);
     for (int64_t i = 0; i < 4; ++i) ASSERT_SF_OK(sf_sequence_set_frame_number(albedo.get(), i, i + 1));
