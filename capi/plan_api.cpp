@@ -32,6 +32,8 @@ double number_member(const JsonValue& object, const char* key) {
     return v && v->is(JsonValue::Type::Number) ? v->number() : 0;
 }
 
+std::string absolute(const std::string& path) { return fs::absolute(path).lexically_normal().string(); }
+
 // The front end's settings a task needs to do what sf_filter_run would: the filter by name and its
 // parameters not at their defaults, its named inputs given as files (paths made absolute), the read
 // and write options.
@@ -44,7 +46,7 @@ std::string front_end_json(const std::string& name, const Filter& f, const sf_re
         if (value == spec.default_value) continue;
         // A pass named by a parameter (the hybrid's "albedo", "normal") is files the tasks open, from
         // any working directory.
-        if (f.takes_input(spec.name)) value = fs::absolute(value).lexically_normal().string();
+        if (f.takes_input(spec.name)) value = absolute(value);
         o << (first ? "" : ", ") << json_quote(spec.name) << ": " << json_quote(value);
         first = false;
     }
@@ -52,7 +54,7 @@ std::string front_end_json(const std::string& name, const Filter& f, const sf_re
     first = true;
     for (const std::string& input : f.input_names()) {
         if (f.input_files(input).empty()) continue;
-        o << (first ? "" : ", ") << json_quote(input) << ": " << json_quote(fs::absolute(f.input_files(input)).lexically_normal().string());
+        o << (first ? "" : ", ") << json_quote(input) << ": " << json_quote(absolute(f.input_files(input)));
         first = false;
     }
     auto text = [](const char* s) { return json_quote(text_or_empty(s)); };
@@ -132,7 +134,6 @@ JsonValue read_plan(const std::string& path) {
     }
 }
 
-std::string absolute(const std::string& path) { return fs::absolute(path).lexically_normal().string(); }
 
 // plan->images as (name, absolute path), refused when a path is the input or output pattern (make_plan
 // checks the rest, as the tasks will write them).
@@ -291,7 +292,7 @@ sf_status sf_plan_write(sf_filter filter, const char* input_pattern, const sf_re
         open_frame_sink(out, wo, source->attributes(), checks);  // the output's checks, now; nothing written
         std::string stamp = input_files_stamp(in, source->attributes().frame_numbers());
         for (const std::string& input : handle.filter->input_names()) {  // passes rendered again: another run
-            const std::string pattern = guide_pattern(*handle.filter, input);
+            const std::string pattern = guide_pass_pattern(*handle.filter, handle.filter->params(), input);
             if (!pattern.empty()) stamp += input_files_stamp(absolute(pattern), source->attributes().frame_numbers());
         }
         PlanRequest request;

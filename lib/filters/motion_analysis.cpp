@@ -4,6 +4,7 @@
 
 #include "filters/frame_stages.hpp"
 #include "filters/temporal_params.hpp"
+#include "pipeline/guide_sources.hpp"
 #include "statfilter/error.hpp"
 #include "statfilter/frame_pattern.hpp"
 #include "statfilter/sequence_io.hpp"
@@ -77,13 +78,6 @@ void count_named_passes(const Filter& filter, const ParamSet& params, PassMotion
     };
     options.named_vectors = named("vectors");
     options.named_surfaces = (named("albedo") ? 1 : 0) + (named("normal") ? 1 : 0);
-}
-
-std::string guide_pass_pattern(const Filter& filter, const ParamSet& params, const std::string& name) {
-    if (filter.input(name)) return "";
-    const std::string& files = filter.input_files(name);
-    if (!files.empty() || name == "vectors" || !params.has(name)) return files;
-    return params.get_string(name);
 }
 
 GuidePasses guide_passes(const Filter& filter, const Sequence& input, const ParamSet& params) {

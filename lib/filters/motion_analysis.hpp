@@ -35,9 +35,6 @@ struct GuidePasses {
 GuidePasses guide_passes(const Filter& filter, const Sequence& input, const ParamSet& params);
 // Which passes are named (options.named_vectors, named_surfaces), without opening them.
 void count_named_passes(const Filter& filter, const ParamSet& params, PassMotionOptions& options);
-// The file pattern pass `name` is given as (a named input's files, else for albedo and normal the
-// parameter), or "" when it is not given as files.
-std::string guide_pass_pattern(const Filter& filter, const ParamSet& params, const std::string& name);
 // The passes as sources (borrowed: the passes must outlive them), for a stage run in memory.
 struct GuideMemorySources {
     GuideSources view;

@@ -7,11 +7,11 @@
 
 namespace statfilter {
 
-std::string guide_pattern(const Filter& filter, const std::string& name) {
-    if (!filter.takes_input(name)) return "";
-    std::string pattern = filter.input_files(name);
-    if (pattern.empty() && name != "vectors" && filter.params().has(name)) pattern = filter.params().get_string(name);
-    return pattern;
+std::string guide_pass_pattern(const Filter& filter, const ParamSet& params, const std::string& name) {
+    if (filter.input(name)) return "";
+    const std::string& files = filter.input_files(name);
+    if (!files.empty() || name == "vectors" || !params.has(name)) return files;
+    return params.get_string(name);
 }
 
 OpenGuides open_guide_sources(const Filter& filter, const FrameSource& input) {
@@ -23,7 +23,7 @@ OpenGuides open_guide_sources(const Filter& filter, const FrameSource& input) {
         if (const Sequence* pass = filter.input(name)) {
             guides.held.push_back(memory_source(*pass));
         } else {
-            const std::string pattern = guide_pattern(filter, name);
+            const std::string pattern = guide_pass_pattern(filter, filter.params(), name);
             if (pattern.empty()) return;
             what += " '" + pattern + "'";
             ReadOptions read;

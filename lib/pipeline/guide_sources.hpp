@@ -10,6 +10,7 @@
 namespace statfilter {
 
 class Filter;
+class ParamSet;
 
 struct OpenGuides {
     GuideSources view;
@@ -21,8 +22,8 @@ struct OpenGuides {
 // sequence is opened here, for the input's frame numbers, and every pass is checked against the
 // input (frames, width, height; the vectors' four channels) before any work.
 OpenGuides open_guide_sources(const Filter& filter, const FrameSource& input);
-// The file pattern of the named input `name`, as open_guide_sources reads it: the files given for it,
-// else (albedo, normal) its parameter; "" when it is given no files (or the filter does not take it).
-std::string guide_pattern(const Filter& filter, const std::string& name);
+// The file pattern pass `name` is given as (a named input's files, else for albedo and normal the
+// parameter in `params`), or "" when it is not given as files.
+std::string guide_pass_pattern(const Filter& filter, const ParamSet& params, const std::string& name);
 
 }  // namespace statfilter

@@ -28,8 +28,8 @@ import time
 from typing import Any, Dict, List, Optional, Union
 
 from . import _capi
-from .errors import InvalidArgumentError, UnsupportedError, check, error_for
-from .filter import Filter
+from .errors import InvalidArgumentError, check, error_for
+from .filter import Filter, _require_input_files, _set_input_files
 from .sequence import _read_options, _write_options
 
 __all__ = ["denoise", "detect", "write_plan", "write_detect_plan", "run_task"]
@@ -84,12 +84,9 @@ def write_plan(input: str, output: str, plan_path: str, method: Optional[str] = 
     error-threshold, alpha of balanced and the hybrid; a .png path gets the false-colour picture).
     inputs: the filter's named inputs as file patterns, e.g. {"vectors": "vector.####.exr"} (the
     renderer's passes, read by the tasks beside the input)."""
-    if inputs and not _capi.has("sf_filter_set_input_files"):
-        raise UnsupportedError("this statfilter library cannot read named inputs from files: update it")
+    _require_input_files(inputs or {})
     with Filter(_method(method, params), **params) as flt:
-        for name, pattern in (inputs or {}).items():
-            check(_capi.lib.sf_filter_set_input_files(flt._live(), _capi.encode(str(name)), _capi.encode_path(pattern)),
-                  flt._live())
+        _set_input_files(flt._live(), inputs or {}, lambda status: check(status, flt._live()))
         run, plan, work = _plan_options(memory, threads, tiles, tile_rows, work_dir)
         plan.frames_per_task = int(frames_per_task)
         saves = list((save or {}).items())

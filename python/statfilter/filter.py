@@ -11,7 +11,7 @@ import ctypes
 import numbers
 import re
 import warnings
-from typing import TYPE_CHECKING, Any, Dict, List, Mapping, Optional, Union
+from typing import TYPE_CHECKING, Any, Callable, Dict, List, Mapping, Optional, Union
 
 import numpy as np
 
@@ -78,6 +78,17 @@ def version() -> str:
 
 def _same_memory(a: np.ndarray, b: np.ndarray) -> bool:
     return (a.ctypes.data == b.ctypes.data and a.shape == b.shape and a.strides == b.strides)
+
+
+def _require_input_files(inputs: Dict[str, str]) -> None:
+    if inputs and not _capi.has("sf_filter_set_input_files"):
+        raise UnsupportedError("this statfilter library cannot read named inputs from files: update it")
+
+
+def _set_input_files(handle: Any, inputs: Dict[str, str], check: Callable[[int], None]) -> None:
+    """The filter's named inputs as file patterns (sf_filter_set_input_files; _require_input_files first)."""
+    for name, pattern in inputs.items():
+        check(_capi.lib.sf_filter_set_input_files(handle, _capi.encode(str(name)), _capi.encode_path(pattern)))
 
 
 class Filter(OwnsHandle):
@@ -331,11 +342,9 @@ class Filter(OwnsHandle):
         write.into = 1 if into else 0
         self.results = {}
         named = dict(inputs or {})
-        if named and not _capi.has("sf_filter_set_input_files"):
-            raise UnsupportedError("this statfilter library cannot read named inputs from files: update it")
+        _require_input_files(named)
         try:
-            for name, pattern in named.items():
-                self._check(_capi.lib.sf_filter_set_input_files(handle, _capi.encode(str(name)), _capi.encode_path(pattern)))
+            _set_input_files(handle, named, self._check)
             status = _capi.lib.sf_filter_run(handle, _capi.encode_path(input_pattern), ctypes.byref(read),
                                              _capi.encode_path(output_pattern), ctypes.byref(write), ctypes.byref(run))
         finally:
