@@ -1,5 +1,6 @@
 // sf_plan_*: a run written as a plan of tasks, and one task of it run (lib/distributed/).
 #include <algorithm>
+#include <cmath>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -8,6 +9,7 @@
 
 #include "api_guard.hpp"
 #include "distributed/detect_plan.hpp"
+#include "distributed/plan_json.hpp"
 #include "distributed/plan_run.hpp"
 #include "distributed/tile_files.hpp"
 #include "distributed/tile_plan.hpp"
@@ -66,6 +68,13 @@ std::string front_end_json(const std::string& name, const Filter& f, const sf_re
       << ", \"colorspace_out\": " << text(w.colorspace_out) << ", \"half_overflow\": " << w.half_overflow
       << ", \"tile_size\": " << w.tile_size << "}}";
     return o.str();
+}
+
+// The least plan format version that carries what front_end_json writes for this filter.
+int plan_version(const Filter& f) {
+    for (const std::string& input : f.input_names())
+        if (!f.input_files(input).empty()) return kPlanVersionInputs;
+    return kPlanVersionFirst;
 }
 
 // The strings an sf_read_options / sf_write_options made from a plan point into.
@@ -128,6 +137,15 @@ JsonValue read_plan(const std::string& path) {
         const JsonValue* format = plan.find("format");
         if (!format || !format->is(JsonValue::Type::String) || format->string() != "statfilter-plan")
             throw Error(Status::InvalidArgument, "not a statfilter plan");
+        const JsonValue* version = plan.find("version");
+        if (!version || !version->is(JsonValue::Type::Number) || version->number() != std::floor(version->number()) ||
+            version->number() < kPlanVersionFirst)
+            throw Error(Status::InvalidArgument, "the plan has no valid \"version\"");
+        if (version->number() > kPlanVersionRead)
+            throw Error(Status::Unsupported, "the plan's format is version " + json_number(version->number()) +
+                                                 ", newer than this statfilter reads (up to " +
+                                                 std::to_string(kPlanVersionRead) +
+                                                 "): run its tasks with the statfilter release that wrote it");
         return plan;
     } catch (const Error& e) {
         throw Error(e.status(), "plan '" + path + "': " + e.what());
@@ -236,6 +254,7 @@ void write_detect_plan(sf_filter filter, const char* denoised_pattern, const cha
     request.budget_bytes = static_cast<double>(r.memory);
     request.threads = r.threads;
     request.front_end = front_end_json(handle.name, *handle.filter, ro_c, wo_c);
+    request.version = plan_version(*handle.filter);
     std::string plan_run;
     const std::string stamp = input_files_stamp(request.denoised, source->attributes().frame_numbers()) +
                               (noisy_source ? input_files_stamp(request.noisy, noisy_source->attributes().frame_numbers()) : "");
@@ -307,6 +326,7 @@ sf_status sf_plan_write(sf_filter filter, const char* input_pattern, const sf_re
         request.budget_bytes = static_cast<double>(r.memory);
         request.threads = r.threads;
         request.front_end = front_end_json(handle.name, *handle.filter, ro_c, wo_c);
+        request.version = plan_version(*handle.filter);
         std::string plan_run;
         const std::string text = name_plan_run(make_plan(*handle.filter, *source, request), stamp, &plan_run);
         fs::create_directories(request.work_dir + "/" + plan_run);

@@ -65,7 +65,7 @@ std::string make_detect_plan(const Filter& filter, const FrameSource& denoised, 
                                std::to_string(tiles) + " bands of " + std::to_string(rows) +
                                " rows, one tolerance task between two passes over them, one task writing the frames, maps and crop windows";
     std::ostringstream out;
-    out << "{\n  \"format\": \"statfilter-plan\",\n  \"version\": 1,\n";
+    out << "{\n  \"format\": \"statfilter-plan\",\n  \"version\": " << request.version << ",\n";
     out << "  \"input\": " << json_quote(request.denoised) << ",\n  \"noisy\": " << json_quote(request.noisy) << ",\n";
     out << "  \"output\": " << json_quote(request.mask) << ",\n  \"crops\": " << json_quote(request.crops) << ",\n";
     out << "  \"score\": " << json_quote(request.score) << ",\n  \"degree_map\": " << json_quote(request.degree_map)

@@ -29,6 +29,7 @@ struct DetectPlanRequest {
     double budget_bytes = 0;
     int threads = 0;
     std::string front_end;
+    int version = 1;              // the plan format version front_end needs (distributed/plan_json.hpp)
 };
 
 // Checks the shot against the detect filter (as the filter checks it, on the headers) and returns

@@ -209,7 +209,7 @@ std::string make_plan(const Filter& filter, const FrameSource& source, const Pla
     if (!request.images.empty()) extra << "  \"images\": " << images_json(request) << ",\n";
 
     std::ostringstream out;
-    out << "{\n  \"format\": \"statfilter-plan\",\n  \"version\": 1,\n";
+    out << "{\n  \"format\": \"statfilter-plan\",\n  \"version\": " << request.version << ",\n";
     out << "  \"input\": " << json_quote(request.input) << ",\n  \"output\": " << json_quote(request.output) << ",\n";
     out << "  \"work\": " << json_quote(request.work_dir) << ",\n";
     out << "  \"front_end\": " << (request.front_end.empty() ? "{}" : request.front_end) << ",\n";

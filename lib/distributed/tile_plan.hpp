@@ -34,6 +34,7 @@ struct PlanRequest {
     double budget_bytes = 0;      // each task's memory (0: the default share of the node's memory)
     int threads = 0;              // each task's threads (0: every core of its node)
     std::string front_end;        // the front end's own settings (JSON object text), kept verbatim
+    int version = 1;              // the plan format version front_end needs (distributed/plan_json.hpp)
     // Image results to write (name, absolute path; paths checked by the front end): each by the task
     // that makes it, or refused when the plan's tasks make none of that name.
     std::vector<std::pair<std::string, std::string>> images;

@@ -302,6 +302,17 @@ TEST(Plan, BadArgumentsAreRefusedBeforeAnythingIsWritten) {
     write_text_file(dir.file("not-a-plan.json"), "{\"tasks\": []}");
     expect_failure(sf_plan_task_count(dir.file("not-a-plan.json").c_str(), &count), SF_ERROR_INVALID_ARGUMENT,
                    {"not a statfilter plan"});
+    // A plan of a format newer than this release reads is refused, not run without what it added.
+    std::string text = read_text(plan);
+    EXPECT_NE(text.find("\"version\": 1,"), std::string::npos) << "a plan with no passes is of the first format";
+    text.replace(text.find("\"version\": 1,"), 13, "\"version\": 9,");
+    write_text_file(dir.file("newer.json"), text);
+    expect_failure(sf_plan_task_count(dir.file("newer.json").c_str(), &count), SF_ERROR_UNSUPPORTED,
+                   {"version 9", "newer"});
+    expect_failure(sf_plan_run_task(dir.file("newer.json").c_str(), 0, nullptr), SF_ERROR_UNSUPPORTED, {"version 9"});
+    write_text_file(dir.file("no-version.json"), "{\"format\": \"statfilter-plan\", \"tasks\": []}");
+    expect_failure(sf_plan_task_count(dir.file("no-version.json").c_str(), &count), SF_ERROR_INVALID_ARGUMENT,
+                   {"version"});
 }
 
 // A plan's tasks read every input from files: a pass in the caller's memory is refused (naming the
@@ -333,6 +344,8 @@ TEST(Plan, TheRenderersPassesReachThePlanAsFilesOnly) {
     const std::string text = read_text(plan);
     EXPECT_NE(text.find("\"inputs\": {\"albedo\": "), std::string::npos) << text.substr(0, 600);
     EXPECT_NE(text.find("albedo.####.exr"), std::string::npos);
+    // A worker that knows no "inputs" would run without the pass: the plan says it needs a newer one.
+    EXPECT_NE(text.find("\"version\": 2,"), std::string::npos) << text.substr(0, 200);
 }
 
 // plan->images: error-threshold's rank map written by the plan's images task from the bands' rows,
