@@ -31,8 +31,8 @@ std::vector<ParamSpec> motion_params() {
         int_param("dilate", "2", 0, 255, "local motion: dilation of the mask, in pixels"),
         choice_param("beta_source", "auto", {"auto", "zscore", "aux"},
                      "local motion from z-scores of the input, from the albedo/normal passes, or auto (the passes if given)"),
-        ParamSpec{"albedo", ParamType::String, "", "albedo pass: a file pattern (frames as the input)", 0, 0, {}, false, ""},
-        ParamSpec{"normal", ParamType::String, "", "normal pass: a file pattern (frames as the input)", 0, 0, {}, false, ""},
+        ParamSpec{"albedo", ParamType::String, "", "albedo pass: a file pattern (frames as the input; of a multilayer file, its Albedo or DiffCol layer)", 0, 0, {}, false, ""},
+        ParamSpec{"normal", ParamType::String, "", "normal pass: a file pattern (frames as the input; of a multilayer file, its Normal layer)", 0, 0, {}, false, ""},
         float_param("change_z", "5", 0, 1e6,
                     "temporal-change test (motion alpha misses, e.g. an object crossing a pixel in a frame or two): "
                     "robust score against the pixel's own noise above which it moves; 0 = off"),
@@ -47,10 +47,11 @@ std::vector<ParamSpec> motion_params() {
     };
 }
 
-std::unique_ptr<Sequence> read_pass(const Sequence& input, const std::string& pattern) {
+std::unique_ptr<Sequence> read_pass(const Sequence& input, const std::string& name, const std::string& pattern) {
     ReadOptions ro;
     ro.frames = format_frame_list(input.frame_numbers());
-    ro.channels = "*";  // a data pass: every channel, not the default's light passes
+    // A data pass: every channel of its file, or the pass's layer of a multilayer file.
+    ro.channels = pass_channels(name, pattern, input.frame_numbers());
     auto aux = read_sequence(pattern, ro);
     const Shape& a = aux->shape();
     if (a.frames != input.shape().frames || a.width != input.shape().width || a.height != input.shape().height)
@@ -88,7 +89,7 @@ GuidePasses guide_passes(const Filter& filter, const Sequence& input, const Para
     const auto read = [&](const char* name, const Sequence*& pass, std::shared_ptr<const Sequence>& held) {
         const std::string pattern = guide_pass_pattern(filter, params, name);
         if (pass || pattern.empty()) return;
-        held = read_pass(input, pattern);
+        held = read_pass(input, name, pattern);
         pass = held.get();
     };
     read("albedo", g.albedo, g.read_albedo);

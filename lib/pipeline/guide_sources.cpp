@@ -1,11 +1,65 @@
 #include "pipeline/guide_sources.hpp"
 
+#include <algorithm>
+#include <cctype>
+
 #include "statfilter/error.hpp"
 #include "statfilter/filter.hpp"
 #include "statfilter/frame_pattern.hpp"
 #include "statfilter/sequence_io.hpp"
 
 namespace statfilter {
+
+namespace {
+
+std::string lower(std::string s) {
+    for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    return s;
+}
+
+// The layer a channel belongs to ("ViewLayer.Vector" of "ViewLayer.Vector.X"), "" without one.
+std::string layer_of(const std::string& channel) {
+    const size_t dot = channel.rfind('.');
+    return dot == std::string::npos ? "" : channel.substr(0, dot);
+}
+
+// The pass a layer holds: its last part ("Vector" of "ViewLayer.Vector").
+std::string pass_of_layer(const std::string& layer) {
+    const size_t dot = layer.rfind('.');
+    return dot == std::string::npos ? layer : layer.substr(dot + 1);
+}
+
+}  // namespace
+
+std::string pass_channels(const std::string& name, const std::string& pattern, const std::vector<int64_t>& frames) {
+    const FramePattern files(pattern);
+    const std::vector<int64_t> on_disk = frames.empty() ? files.scan() : std::vector<int64_t>();
+    const std::string path = !frames.empty() ? files.format(frames.front()) : on_disk.empty() ? pattern : files.format(on_disk.front());
+    std::vector<std::string> layers;
+    for (const std::string& channel : select_file_channels(path, "*")) {
+        const std::string layer = layer_of(channel);
+        if (layer.empty()) return "*";  // a channel of no layer: a file of one pass, read whole
+        if (std::find(layers.begin(), layers.end(), layer) == layers.end()) layers.push_back(layer);
+    }
+    // Cycles names them Vector, Normal, DiffCol, Denoising Albedo and Denoising Normal.
+    const std::vector<std::string> names = name == "vectors" ? std::vector<std::string>{"vector", "vectors"}
+                                           : name == "albedo" ? std::vector<std::string>{"albedo", "denoising albedo", "diffcol"}
+                                                              : std::vector<std::string>{"normal", "denoising normal"};
+    std::string listed;
+    for (const std::string& layer : layers) listed += (listed.empty() ? "" : ", ") + layer;
+    for (const std::string& wanted : names) {
+        std::vector<std::string> found;
+        for (const std::string& layer : layers)
+            if (lower(pass_of_layer(layer)) == wanted) found.push_back(layer);
+        if (found.size() == 1) return found.front();
+        if (found.size() > 1)
+            throw Error(Status::InvalidArgument, "the " + name + " pass '" + path + "' has several layers it could be (" +
+                                                     found.front() + ", " + found[1] +
+                                                     "): give it as files of that layer alone (layers: " + listed + ")");
+    }
+    throw Error(Status::NotFound, "the " + name + " pass '" + path + "' has layers but none named for it (layers: " +
+                                      listed + "): give it as files of that layer alone");
+}
 
 std::string guide_pass_pattern(const Filter& filter, const ParamSet& params, const std::string& name) {
     if (filter.input(name)) return "";
@@ -28,7 +82,8 @@ OpenGuides open_guide_sources(const Filter& filter, const FrameSource& input) {
             what += " '" + pattern + "'";
             ReadOptions read;
             read.frames = format_frame_list(input.attributes().frame_numbers());
-            read.channels = "*";  // a data pass: every channel, not the default's light passes
+            // A data pass: every channel of its file, or the pass's layer of a multilayer file.
+            read.channels = pass_channels(name, pattern, input.attributes().frame_numbers());
             guides.held.push_back(open_frame_source(pattern, read));
         }
         const Shape& p = guides.held.back()->shape();

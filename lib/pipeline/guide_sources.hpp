@@ -1,6 +1,7 @@
 // The renderer's passes of a run from files (albedo, normal, vectors) as frame sources beside the
 // input: a stage reads their rows as it reads the input's, so a run given passes streams too.
 #pragma once
+#include <cstdint>
 #include <memory>
 #include <string>
 #include <vector>
@@ -22,6 +23,13 @@ struct OpenGuides {
 // sequence is opened here, for the input's frame numbers, and every pass is checked against the
 // input (frames, width, height; the vectors' four channels) before any work.
 OpenGuides open_guide_sources(const Filter& filter, const FrameSource& input);
+// The channels to read of pass `name` from its files `pattern` (ReadOptions::channels), as the first of
+// `frames` (else the first on disk) has them: every channel of
+// a file without layers; of a file with layers (a renderer's multilayer EXR, the light and every data
+// pass in one file) the one layer named for the pass (vectors: Vector; albedo: Albedo, Denoising
+// Albedo, DiffCol; normal: Normal, Denoising Normal), the first of those names found in exactly one
+// layer. No such layer, or several view layers with it: an error naming the file's layers.
+std::string pass_channels(const std::string& name, const std::string& pattern, const std::vector<int64_t>& frames);
 // The file pattern pass `name` is given as (a named input's files, else for albedo and normal the
 // parameter in `params`), or "" when it is not given as files.
 std::string guide_pass_pattern(const Filter& filter, const ParamSet& params, const std::string& name);

@@ -1,0 +1,95 @@
+"""The renderer's passes from a multilayer EXR (the light and every data pass in one file, as Cycles
+writes it): --albedo, --normal and --vectors given the shot's own files take the layer named for
+the pass, and give what the pass's own files give; a file with layers but none for the pass, or
+several, is refused naming its layers. The files are written here with oiiotool from the sample."""
+import json
+import subprocess
+
+import pytest
+
+from conftest import SAMPLE, oiio_tool, run
+
+FRAMES = range(1, 33)
+AUX = SAMPLE / "cornell_moving" / "aux"
+NOISY = SAMPLE / "cornell_moving" / "spp0004"
+
+
+def oiiotool(*args):
+    subprocess.run([oiio_tool("oiiotool"), *map(str, args)], check=True, capture_output=True)
+
+
+def vectors_file(path):
+    """A Vector pass of its own (X, Y, Z, W): half a pixel right each frame, a quarter up."""
+    oiiotool("--create", "160x120", "4", "--fill:color=0.5,0.25,0.5,0.25", "160x120", "--chnames", "X,Y,Z,W",
+             "-d", "float", "-o", path)
+
+
+def multilayer_shot(d, layers=("Combined", "DiffCol", "Normal", "Vector")):
+    """Frames holding the sample's light, albedo and normal, and vectors, each as a layer of
+    ViewLayer (and, with "Other.Vector", a second view layer's vectors)."""
+    d.mkdir(exist_ok=True)
+    for f in FRAMES:
+        parts = []
+        for layer in layers:
+            if layer == "Combined":
+                parts += [NOISY / f"indirect.{f:04d}.exr", "--chnames", "ViewLayer.Combined.R,ViewLayer.Combined.G,ViewLayer.Combined.B"]
+            elif layer == "DiffCol":
+                parts += [AUX / f"albedo.{f:04d}.exr", "--chnames", "ViewLayer.DiffCol.R,ViewLayer.DiffCol.G,ViewLayer.DiffCol.B"]
+            elif layer == "Normal":
+                parts += [AUX / f"normal.{f:04d}.exr", "--chnames", "ViewLayer.Normal.X,ViewLayer.Normal.Y,ViewLayer.Normal.Z"]
+            else:
+                vectors_file(d / "v.exr")
+                view = "Other" if layer == "Other.Vector" else "ViewLayer"
+                parts += [d / "v.exr", "--chnames", ",".join(f"{view}.Vector.{c}" for c in "XYZW")]
+        args = parts[:3]
+        for i in range(3, len(parts), 3):
+            args += parts[i:i + 3] + ["--chappend"]
+        oiiotool(*args, "-d", "float", "-o", d / f"shot.{f:04d}.exr")
+    return d / "shot.####.exr"
+
+
+@pytest.fixture(scope="module")
+def shot(tmp_path_factory):
+    return multilayer_shot(tmp_path_factory.mktemp("multilayer"))
+
+
+def rel_mse(a, b):
+    return json.loads(run("compare", a, b, "--json").stdout)["rel_mse"]
+
+
+def test_albedo_and_normal_layers_give_what_their_own_files_give(tmp_path, shot):
+    options = ["--method", "hybrid", "--mc_half_width", "2", "--float", "--quiet"]
+    run("denoise", NOISY / "indirect.####.exr", tmp_path / "own" / "o.####.exr", *options,
+        "--albedo", AUX / "albedo.####.exr", "--normal", AUX / "normal.####.exr")
+    run("denoise", shot, tmp_path / "layers" / "o.####.exr", *options, "--channels", "ViewLayer.Combined",
+        "--albedo", shot, "--normal", shot)
+    assert rel_mse(tmp_path / "layers" / "o.####.exr", tmp_path / "own" / "o.####.exr") == 0
+    # Without the passes the output is another: they were read, not passed over.
+    run("denoise", NOISY / "indirect.####.exr", tmp_path / "none" / "o.####.exr", *options)
+    assert rel_mse(tmp_path / "none" / "o.####.exr", tmp_path / "own" / "o.####.exr") > 0
+
+
+def test_the_vector_layer_gives_what_its_own_files_give(tmp_path, shot):
+    for f in FRAMES:
+        vectors_file(tmp_path / f"vector.{f:04d}.exr")
+    options = ["--quality", "balanced", "--float", "--quiet"]
+    own = run("denoise", NOISY / "indirect.####.exr", tmp_path / "own" / "o.####.exr", *options,
+              "--vectors", tmp_path / "vector.####.exr", "--json")
+    layers = run("denoise", shot, tmp_path / "layers" / "o.####.exr", *options, "--channels", "ViewLayer.Combined",
+                 "--vectors", shot, "--json")
+    assert json.loads(layers.stdout)["results"]["hybrid.motion_compensation"] == "the renderer's motion vectors"
+    assert json.loads(own.stdout)["results"]["hybrid.motion_compensation"] == "the renderer's motion vectors"
+    assert rel_mse(tmp_path / "layers" / "o.####.exr", tmp_path / "own" / "o.####.exr") == 0
+
+
+@pytest.mark.parametrize("layers,pass_option,words", [
+    (("Combined", "Normal"), "--albedo", ["has layers but none named for it", "ViewLayer.Normal"]),
+    (("Combined", "Vector", "Other.Vector"), "--vectors", ["several layers", "ViewLayer.Vector", "Other.Vector"]),
+])
+def test_a_layered_pass_with_no_single_layer_for_it_is_refused(tmp_path, layers, pass_option, words):
+    shot = multilayer_shot(tmp_path / "shot", layers)
+    proc = run("denoise", shot, tmp_path / "o.####.exr", "--quality", "balanced", "--channels", "ViewLayer.Combined",
+               pass_option, shot, "--quiet", check_rc=1)
+    for word in words:
+        assert word in proc.stderr
+    assert not list(tmp_path.glob("o.*.exr"))
