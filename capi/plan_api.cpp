@@ -47,8 +47,8 @@ std::string front_end_json(const std::string& name, const Filter& f, const sf_re
         std::string value = f.params().get_string(spec.name);
         if (value == spec.default_value) continue;
         // A pass named by a parameter (the hybrid's "albedo", "normal") is files the tasks open, from
-        // any working directory.
-        if (f.takes_input(spec.name)) value = absolute(value);
+        // any working directory (or a layer of the input's files, which the plan names absolutely).
+        if (f.takes_input(spec.name) && pass_names_files(value)) value = absolute(value);
         o << (first ? "" : ", ") << json_quote(spec.name) << ": " << json_quote(value);
         first = false;
     }
@@ -56,7 +56,8 @@ std::string front_end_json(const std::string& name, const Filter& f, const sf_re
     first = true;
     for (const std::string& input : f.input_names()) {
         if (f.input_files(input).empty()) continue;
-        o << (first ? "" : ", ") << json_quote(input) << ": " << json_quote(absolute(f.input_files(input)));
+        const std::string& files = f.input_files(input);
+        o << (first ? "" : ", ") << json_quote(input) << ": " << json_quote(pass_names_files(files) ? absolute(files) : files);
         first = false;
     }
     auto text = [](const char* s) { return json_quote(text_or_empty(s)); };
@@ -312,7 +313,9 @@ sf_status sf_plan_write(sf_filter filter, const char* input_pattern, const sf_re
         std::string stamp = input_files_stamp(in, source->attributes().frame_numbers());
         for (const std::string& input : handle.filter->input_names()) {  // passes rendered again: another run
             const std::string pattern = guide_pass_pattern(*handle.filter, handle.filter->params(), input);
-            if (!pattern.empty()) stamp += input_files_stamp(absolute(pattern), source->attributes().frame_numbers());
+            // (A layer of the input's files is stamped with them.)
+            if (!pattern.empty() && pass_names_files(pattern))
+                stamp += input_files_stamp(absolute(pattern), source->attributes().frame_numbers());
         }
         PlanRequest request;
         request.images = image_outputs(p, in, out);

@@ -66,6 +66,7 @@ void set_vectors_input(FilterHandle& filter, const Args& args, const std::string
 
 const char* const kVectorsHelp =
     "  --vectors PATTERN       the renderer's motion vectors (Cycles Vector pass) for the hybrid and --quality\n"
-    "                          balanced/high; of a multilayer file (such as the input's own), its Vector layer\n";
+    "                          balanced/high; of a multilayer file (such as the input's own), its Vector layer;\n"
+    "                          or a layer's name (ViewLayer.Vector): that layer of the input's files\n";
 
 }  // namespace statfilter_cli

@@ -31,8 +31,8 @@ std::vector<ParamSpec> motion_params() {
         int_param("dilate", "2", 0, 255, "local motion: dilation of the mask, in pixels"),
         choice_param("beta_source", "auto", {"auto", "zscore", "aux"},
                      "local motion from z-scores of the input, from the albedo/normal passes, or auto (the passes if given)"),
-        ParamSpec{"albedo", ParamType::String, "", "albedo pass: a file pattern (frames as the input; of a multilayer file, its Albedo or DiffCol layer)", 0, 0, {}, false, ""},
-        ParamSpec{"normal", ParamType::String, "", "normal pass: a file pattern (frames as the input; of a multilayer file, its Normal layer)", 0, 0, {}, false, ""},
+        ParamSpec{"albedo", ParamType::String, "", "albedo pass: a file pattern (frames as the input; of a multilayer file, its Albedo or DiffCol layer), or a layer of the input's files", 0, 0, {}, false, ""},
+        ParamSpec{"normal", ParamType::String, "", "normal pass: a file pattern (frames as the input; of a multilayer file, its Normal layer), or a layer of the input's files", 0, 0, {}, false, ""},
         float_param("change_z", "5", 0, 1e6,
                     "temporal-change test (motion alpha misses, e.g. an object crossing a pixel in a frame or two): "
                     "robust score against the pixel's own noise above which it moves; 0 = off"),
@@ -50,9 +50,9 @@ std::vector<ParamSpec> motion_params() {
 std::unique_ptr<Sequence> read_pass(const Sequence& input, const std::string& name, const std::string& pattern) {
     ReadOptions ro;
     ro.frames = format_frame_list(input.frame_numbers());
-    // A data pass: every channel of its file, or the pass's layer of a multilayer file.
-    ro.channels = pass_channels(name, pattern, input.frame_numbers());
-    auto aux = read_sequence(pattern, ro);
+    const PassFiles files = pass_files(name, pattern, input);
+    ro.channels = files.channels;
+    auto aux = read_sequence(files.pattern, ro);
     const Shape& a = aux->shape();
     if (a.frames != input.shape().frames || a.width != input.shape().width || a.height != input.shape().height)
         throw Error(Status::InvalidArgument, "pass '" + pattern + "' is " + to_string(a) + ", the input " +

@@ -77,7 +77,8 @@ std::vector<float> crossing_weight(const Sequence& change, const Sequence& alpha
 std::vector<int64_t> crossing_pixels(const std::vector<float>& weight);
 
 // A renderer pass (albedo, normal, vectors: `name`) for the input's frames, read from a file pattern
-// (pass_channels: its layer of a multilayer file); its frames and size must match the input's.
+// or a layer of the input's files (pipeline/guide_sources.hpp pass_files); its frames and size must
+// match the input's.
 std::unique_ptr<Sequence> read_pass(const Sequence& input, const std::string& name, const std::string& pattern);
 
 }  // namespace statfilter

@@ -55,10 +55,29 @@ std::string pass_channels(const std::string& name, const std::string& pattern, c
         if (found.size() > 1)
             throw Error(Status::InvalidArgument, "the " + name + " pass '" + path + "' has several layers it could be (" +
                                                      found.front() + ", " + found[1] +
-                                                     "): give it as files of that layer alone (layers: " + listed + ")");
+                                                     "): give the layer's name instead of the files (layers: " + listed + ")");
     }
     throw Error(Status::NotFound, "the " + name + " pass '" + path + "' has layers but none named for it (layers: " +
-                                      listed + "): give it as files of that layer alone");
+                                      listed + "): give the layer's name instead of the files");
+}
+
+bool pass_names_files(const std::string& value) {
+    if (FramePattern(value).has_frame_token() || value.find('/') != std::string::npos) return true;
+    const size_t dot = value.rfind('.');
+    const std::string extension = dot == std::string::npos ? "" : lower(value.substr(dot + 1));
+    for (const char* image : {"exr", "sxr", "tif", "tiff", "hdr", "png", "dpx", "jpg", "jpeg"})
+        if (extension == image) return true;
+    return false;
+}
+
+PassFiles pass_files(const std::string& name, const std::string& value, const Sequence& input) {
+    if (pass_names_files(value)) return {value, pass_channels(name, value, input.frame_numbers())};
+    const std::string& own = input.source().pattern;
+    if (own.empty())
+        throw Error(Status::InvalidArgument, "the " + name + " pass '" + value +
+                                                 "' is not a frame pattern (e.g. vector.####.exr), and a layer name "
+                                                 "needs an input read from files");
+    return {own, value};
 }
 
 std::string guide_pass_pattern(const Filter& filter, const ParamSet& params, const std::string& name) {
@@ -77,14 +96,14 @@ OpenGuides open_guide_sources(const Filter& filter, const FrameSource& input) {
         if (const Sequence* pass = filter.input(name)) {
             guides.held.push_back(memory_source(*pass));
         } else {
-            const std::string pattern = guide_pass_pattern(filter, filter.params(), name);
-            if (pattern.empty()) return;
-            what += " '" + pattern + "'";
+            const std::string value = guide_pass_pattern(filter, filter.params(), name);
+            if (value.empty()) return;
+            const PassFiles files = pass_files(name, value, input.attributes());
+            what += files.pattern == value ? " '" + value + "'" : " (layer '" + value + "' of '" + files.pattern + "')";
             ReadOptions read;
             read.frames = format_frame_list(input.attributes().frame_numbers());
-            // A data pass: every channel of its file, or the pass's layer of a multilayer file.
-            read.channels = pass_channels(name, pattern, input.attributes().frame_numbers());
-            guides.held.push_back(open_frame_source(pattern, read));
+            read.channels = files.channels;
+            guides.held.push_back(open_frame_source(files.pattern, read));
         }
         const Shape& p = guides.held.back()->shape();
         if (p.frames != s.frames || p.width != s.width || p.height != s.height)

@@ -1,7 +1,8 @@
 """The renderer's passes from a multilayer EXR (the light and every data pass in one file, as Cycles
 writes it): --albedo, --normal and --vectors given the shot's own files take the layer named for
-the pass, and give what the pass's own files give; a file with layers but none for the pass, or
-several, is refused naming its layers. The files are written here with oiiotool from the sample."""
+the pass, or given a layer's name take that layer of the input's files, and give what the pass's
+own files give, in a run and in a plan; a file with layers but none for the pass, or several, is
+refused naming its layers. The files are written here with oiiotool from the sample."""
 import json
 import subprocess
 
@@ -64,6 +65,9 @@ def test_albedo_and_normal_layers_give_what_their_own_files_give(tmp_path, shot)
     run("denoise", shot, tmp_path / "layers" / "o.####.exr", *options, "--channels", "ViewLayer.Combined",
         "--albedo", shot, "--normal", shot)
     assert rel_mse(tmp_path / "layers" / "o.####.exr", tmp_path / "own" / "o.####.exr") == 0
+    run("denoise", shot, tmp_path / "named" / "o.####.exr", *options, "--channels", "ViewLayer.Combined",
+        "--albedo", "ViewLayer.DiffCol", "--normal", "ViewLayer.Normal")
+    assert rel_mse(tmp_path / "named" / "o.####.exr", tmp_path / "own" / "o.####.exr") == 0
     # Without the passes the output is another: they were read, not passed over.
     run("denoise", NOISY / "indirect.####.exr", tmp_path / "none" / "o.####.exr", *options)
     assert rel_mse(tmp_path / "none" / "o.####.exr", tmp_path / "own" / "o.####.exr") > 0
@@ -81,10 +85,37 @@ def test_the_vector_layer_gives_what_its_own_files_give(tmp_path, shot):
     assert json.loads(own.stdout)["results"]["hybrid.motion_compensation"] == "the renderer's motion vectors"
     assert rel_mse(tmp_path / "layers" / "o.####.exr", tmp_path / "own" / "o.####.exr") == 0
 
+    # The layer by name, in a plan: the tasks read it from the input's files.
+    plan = tmp_path / "plan.json"
+    run("plan", shot, tmp_path / "farm" / "o.####.exr", *options, "--channels", "ViewLayer.Combined",
+        "--vectors", "ViewLayer.Vector", "-o", plan)
+    written = json.loads(plan.read_text())
+    assert written["kind"] == "window" and written["version"] == 2
+    assert written["front_end"]["inputs"] == {"vectors": "ViewLayer.Vector"}
+    for task in written["tasks"]:
+        run("task", plan, task["index"], "--quiet")
+    assert rel_mse(tmp_path / "farm" / "o.####.exr", tmp_path / "own" / "o.####.exr") == 0
+
+
+def test_a_layer_named_among_several_view_layers(tmp_path):
+    shot = multilayer_shot(tmp_path / "shot", ("Combined", "Vector", "Other.Vector"))
+    for f in FRAMES:
+        vectors_file(tmp_path / f"vector.{f:04d}.exr")
+    options = ["--quality", "balanced", "--float", "--quiet"]
+    run("denoise", NOISY / "indirect.####.exr", tmp_path / "own" / "o.####.exr", *options,
+        "--vectors", tmp_path / "vector.####.exr")
+    run("denoise", shot, tmp_path / "named" / "o.####.exr", *options, "--channels", "ViewLayer.Combined",
+        "--vectors", "Other.Vector")
+    assert rel_mse(tmp_path / "named" / "o.####.exr", tmp_path / "own" / "o.####.exr") == 0
+    proc = run("denoise", shot, tmp_path / "o.####.exr", *options, "--channels", "ViewLayer.Combined",
+               "--vectors", "ViewLayer.Motion", check_rc=1)
+    assert "ViewLayer.Motion" in proc.stderr and "Other.Vector.X" in proc.stderr
+
 
 @pytest.mark.parametrize("layers,pass_option,words", [
     (("Combined", "Normal"), "--albedo", ["has layers but none named for it", "ViewLayer.Normal"]),
-    (("Combined", "Vector", "Other.Vector"), "--vectors", ["several layers", "ViewLayer.Vector", "Other.Vector"]),
+    (("Combined", "Vector", "Other.Vector"), "--vectors", ["several layers", "ViewLayer.Vector", "Other.Vector",
+                                                           "the layer's name"]),
 ])
 def test_a_layered_pass_with_no_single_layer_for_it_is_refused(tmp_path, layers, pass_option, words):
     shot = multilayer_shot(tmp_path / "shot", layers)
