@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cctype>
+#include <filesystem>
+#include <system_error>
 
 #include "statfilter/error.hpp"
 #include "statfilter/filter.hpp"
@@ -67,7 +69,8 @@ bool pass_names_files(const std::string& value) {
     const std::string extension = dot == std::string::npos ? "" : lower(value.substr(dot + 1));
     for (const char* image : {"exr", "sxr", "tif", "tiff", "hdr", "png", "dpx", "jpg", "jpeg"})
         if (extension == image) return true;
-    return false;
+    std::error_code error;
+    return std::filesystem::exists(value, error);  // a file of another name
 }
 
 PassFiles pass_files(const std::string& name, const std::string& value, const Sequence& input) {

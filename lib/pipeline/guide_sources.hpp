@@ -32,8 +32,8 @@ OpenGuides open_guide_sources(const Filter& filter, const FrameSource& input);
 // layer. No such layer, or several view layers with it: an error naming the file's layers (the pass
 // can then be given as the layer's name).
 std::string pass_channels(const std::string& name, const std::string& pattern, const std::vector<int64_t>& frames);
-// Whether a pass given as `value` names files (a frame token #, @ or %, a directory, or an image
-// file's extension) rather than a layer of the input's own files ("ViewLayer.Vector").
+// Whether a pass given as `value` names files (a frame token #, @ or %, a directory, an image file's
+// extension, or an existing file) rather than a layer of the input's own files ("ViewLayer.Vector").
 bool pass_names_files(const std::string& value);
 // Where pass `name` given as `value` is read from: its files, or for a layer name the files the
 // input was read from (`input`'s source; an error when it was not read from files), and the channels
