@@ -213,8 +213,17 @@ void Filter::execute(const FrameSource& source, FrameSink& sink, const RunOption
         const double tiles = params().has("memory_mb") ? params().get_float("memory_mb") * 1024.0 * 1024.0 : 0.0;
         needed = (source.in_memory() ? copies - 1 : copies) * frame_bytes * static_cast<double>(s.frames) + tiles +
                  frame_reserve_bytes(stages, s, threads, !source.in_memory());
-        check_memory_budget(needed, budget, "this run (" + shot_text(s) + ", in memory: the filter needs the whole shot)");
-        open_guide_sources(*this, source);  // the renderer's passes checked before the shot is read (run() reads them)
+        // The renderer's passes, checked before the shot is read; run() reads those given as files
+        // whole, beside the shot (up to 10 channels to its 3: more than the shot itself).
+        const OpenGuides guides = open_guide_sources(*this, source);
+        for (const FrameSource* pass : {guides.view.albedo, guides.view.normal, guides.view.vectors})
+            if (pass && !pass->in_memory()) {
+                const Shape& p = pass->shape();
+                needed += static_cast<double>(p.frames) * static_cast<double>(p.pixels()) *
+                          static_cast<double>(p.channels) * sizeof(float);
+            }
+        check_memory_budget(needed, budget, "this run (" + shot_text(s) + ", in memory: the filter needs the whole shot" +
+                                                (guides.held.empty() ? "" : " and its passes") + ")");
         std::unique_ptr<Sequence> owned;
         const Sequence* input = source.in_memory();
         if (!input) {

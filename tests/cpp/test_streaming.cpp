@@ -414,6 +414,30 @@ TEST(Streaming, TheRefusalNamesABudgetThatWorks) {
     EXPECT_EQ(ok.status, SF_OK) << ok.message;
 }
 
+// A run that holds the shot (the study's hybrid, motion_compensation=off) reads the passes given as
+// files whole beside it: its budget counts them, so the refusal names a budget that holds them too.
+TEST(Streaming, AnInMemoryRunCountsThePassesItReads) {
+    Shot shot(shape_of(16, 256, 256, 3));  // vectors of 16 MiB: many times the message's rounding
+    const sf_shape& s = shot.shape;
+    Seq vectors = filled_sequence(shape_of(s.frames, s.height, s.width, 4), [](int64_t, int64_t, int64_t, int64_t) { return 0.5f; });
+    const std::string files = shot.dir.file("vector.####.exr");
+    const sf_write_options o = write_options(SF_PIXEL_FLOAT);
+    ASSERT_SF_OK(sf_sequence_write(vectors.get(), files.c_str(), &o));
+    const auto needed = [&](const Named& inputs) {
+        const RunResult r = run_files("hybrid", {{"motion_compensation", "off"}}, shot.in, shot.dir.file("o.####.exr"),
+                                      4096, 0, "zip", inputs);
+        EXPECT_EQ(r.status, SF_ERROR_OUT_OF_MEMORY) << r.message;
+        EXPECT_EQ(r.progress_calls, 0);
+        const size_t at = r.message.find("memory parameter ");
+        EXPECT_NE(at, std::string::npos) << r.message;
+        return at == std::string::npos ? 0.0 : static_cast<double>(std::atoll(r.message.c_str() + at + 17));
+    };
+    const double without = needed({}), with = needed({{"vectors", files}});
+    // Rounded up to whole MiB (or KiB) in the message: the passes' bytes, within that rounding.
+    const double pass_bytes = static_cast<double>(s.frames * s.height * s.width * 4) * sizeof(float);
+    EXPECT_NEAR(with - without, pass_bytes, 1024.0 * 1024.0) << without << " " << with;
+}
+
 TEST(OutputSafety, OverwritingTheInputNeedsConsentAndReplacesItOnlyAtTheEnd) {
     Shot shot;
     const std::vector<float> before = samples_of(read_sequence(shot.in).get());
