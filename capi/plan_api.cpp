@@ -71,10 +71,11 @@ std::string front_end_json(const std::string& name, const Filter& f, const sf_re
     return o.str();
 }
 
-// The least plan format version that carries what front_end_json writes for this filter.
+// The least plan format version that carries what front_end_json writes for this filter: any pass
+// named (files or a layer, as a named input or through a parameter) needs a reader that knows them.
 int plan_version(const Filter& f) {
     for (const std::string& input : f.input_names())
-        if (!f.input_files(input).empty()) return kPlanVersionInputs;
+        if (!guide_pass_pattern(f, f.params(), input).empty()) return kPlanVersionInputs;
     return kPlanVersionFirst;
 }
 

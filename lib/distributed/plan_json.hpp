@@ -6,10 +6,10 @@
 
 namespace statfilter {
 
-// The plan format's versions. 1: the first. 2: the front end names inputs as files ("inputs"), which
-// a reader of version 1 would pass over, running the filter without the renderer's passes. A plan is
-// written with the least version its content needs, so older workers still take the plans they run
-// right, and a reader refuses a version newer than kPlanVersionRead instead of guessing.
+// The plan format's versions. 1: the first. 2: the renderer's passes named (front end "inputs", the
+// albedo/normal parameters; files, a multilayer file's layer, or a layer's name), which a reader
+// from before them would pass over or read whole. A plan is written with the least version its
+// content needs, and a reader refuses a version newer than kPlanVersionRead instead of guessing.
 constexpr int kPlanVersionFirst = 1;
 constexpr int kPlanVersionInputs = 2;
 constexpr int kPlanVersionRead = kPlanVersionInputs;

@@ -2,8 +2,6 @@
 
 #include <algorithm>
 #include <cctype>
-#include <filesystem>
-#include <system_error>
 
 #include "statfilter/error.hpp"
 #include "statfilter/filter.hpp"
@@ -40,13 +38,16 @@ std::string pass_channels(const std::string& name, const std::string& pattern, c
     std::vector<std::string> layers;
     for (const std::string& channel : select_file_channels(path, "*")) {
         const std::string layer = layer_of(channel);
-        if (layer.empty()) return "*";  // a channel of no layer: a file of one pass, read whole
-        if (std::find(layers.begin(), layers.end(), layer) == layers.end()) layers.push_back(layer);
+        if (!layer.empty() && std::find(layers.begin(), layers.end(), layer) == layers.end()) layers.push_back(layer);
     }
-    // Cycles names them Vector, Normal, DiffCol, Denoising Albedo and Denoising Normal.
+    // No layer: a file of one pass, read whole. With layers, the pass's own, even beside channels of
+    // no layer (other renderers keep the beauty as plain R, G, B next to layers of data passes).
+    if (layers.empty()) return "*";
+    // Cycles names them Vector, Normal, DiffCol, Denoising Albedo and Denoising Normal; Arnold albedo
+    // and N. Only Cycles' vectors are taken by name: their convention is the one the window reads.
     const std::vector<std::string> names = name == "vectors" ? std::vector<std::string>{"vector", "vectors"}
                                            : name == "albedo" ? std::vector<std::string>{"albedo", "denoising albedo", "diffcol"}
-                                                              : std::vector<std::string>{"normal", "denoising normal"};
+                                                              : std::vector<std::string>{"normal", "denoising normal", "n"};
     std::string listed;
     for (const std::string& layer : layers) listed += (listed.empty() ? "" : ", ") + layer;
     for (const std::string& wanted : names) {
@@ -63,23 +64,32 @@ std::string pass_channels(const std::string& name, const std::string& pattern, c
                                       listed + "): give the layer's name instead of the files");
 }
 
+// The text alone decides (never what is on disk), so a plan's tasks decide as its writer did, from
+// any working directory.
 bool pass_names_files(const std::string& value) {
-    if (FramePattern(value).has_frame_token() || value.find('/') != std::string::npos) return true;
+    if (FramePattern(value).has_frame_token() || value.find_first_of("/\\") != std::string::npos) return true;
     const size_t dot = value.rfind('.');
     const std::string extension = dot == std::string::npos ? "" : lower(value.substr(dot + 1));
-    for (const char* image : {"exr", "sxr", "tif", "tiff", "hdr", "png", "dpx", "jpg", "jpeg"})
+    for (const char* image : {"exr", "sxr", "tif", "tiff", "hdr", "png", "dpx", "jpg", "jpeg", "tga", "bmp", "jxl", "webp"})
         if (extension == image) return true;
-    std::error_code error;
-    return std::filesystem::exists(value, error);  // a file of another name
+    return false;
 }
 
 PassFiles pass_files(const std::string& name, const std::string& value, const Sequence& input) {
     if (pass_names_files(value)) return {value, pass_channels(name, value, input.frame_numbers())};
+    const std::string taken = "the " + name + " pass '" + value +
+                              "', taken as a layer of the input's files (it has no frame token, directory or image "
+                              "extension: give a file as ./" + value + ")";
     const std::string& own = input.source().pattern;
-    if (own.empty())
-        throw Error(Status::InvalidArgument, "the " + name + " pass '" + value +
-                                                 "' is not a frame pattern (e.g. vector.####.exr), and a layer name "
-                                                 "needs an input read from files");
+    if (own.empty()) throw Error(Status::InvalidArgument, taken + ", but the input was not read from files");
+    // The layer checked on the input's first file now, so that a typo says how the value was read.
+    const FramePattern files(own);
+    const std::vector<int64_t>& frames = input.frame_numbers();
+    try {
+        select_file_channels(frames.empty() || !files.has_frame_token() ? own : files.format(frames.front()), value);
+    } catch (const Error& e) {
+        throw Error(e.status(), taken + ": " + e.what());
+    }
     return {own, value};
 }
 

@@ -28,12 +28,12 @@ OpenGuides open_guide_sources(const Filter& filter, const FrameSource& input);
 // `frames` (else the first on disk) has them: every channel of
 // a file without layers; of a file with layers (a renderer's multilayer EXR, the light and every data
 // pass in one file) the one layer named for the pass (vectors: Vector; albedo: Albedo, Denoising
-// Albedo, DiffCol; normal: Normal, Denoising Normal), the first of those names found in exactly one
+// Albedo, DiffCol; normal: Normal, Denoising Normal, N), the first of those names found in exactly one
 // layer. No such layer, or several view layers with it: an error naming the file's layers (the pass
 // can then be given as the layer's name).
 std::string pass_channels(const std::string& name, const std::string& pattern, const std::vector<int64_t>& frames);
-// Whether a pass given as `value` names files (a frame token #, @ or %, a directory, an image file's
-// extension, or an existing file) rather than a layer of the input's own files ("ViewLayer.Vector").
+// Whether a pass given as `value` names files (a frame token #, @ or %, a directory, or an image
+// file's extension) rather than a layer of the input's own files ("ViewLayer.Vector").
 bool pass_names_files(const std::string& value);
 // Where pass `name` given as `value` is read from: its files, or for a layer name the files the
 // input was read from (`input`'s source; an error when it was not read from files), and the channels

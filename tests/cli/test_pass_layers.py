@@ -32,7 +32,11 @@ def multilayer_shot(d, layers=("Combined", "DiffCol", "Normal", "Vector")):
     for f in FRAMES:
         parts = []
         for layer in layers:
-            if layer == "Combined":
+            if layer == "RGB":  # another renderer's beauty: plain R, G, B beside layers
+                parts += [NOISY / f"indirect.{f:04d}.exr", "--chnames", "R,G,B"]
+            elif layer == "albedo":
+                parts += [AUX / f"albedo.{f:04d}.exr", "--chnames", "albedo.R,albedo.G,albedo.B"]
+            elif layer == "Combined":
                 parts += [NOISY / f"indirect.{f:04d}.exr", "--chnames", "ViewLayer.Combined.R,ViewLayer.Combined.G,ViewLayer.Combined.B"]
             elif layer == "DiffCol":
                 parts += [AUX / f"albedo.{f:04d}.exr", "--chnames", "ViewLayer.DiffCol.R,ViewLayer.DiffCol.G,ViewLayer.DiffCol.B"]
@@ -40,8 +44,8 @@ def multilayer_shot(d, layers=("Combined", "DiffCol", "Normal", "Vector")):
                 parts += [AUX / f"normal.{f:04d}.exr", "--chnames", "ViewLayer.Normal.X,ViewLayer.Normal.Y,ViewLayer.Normal.Z"]
             else:
                 vectors_file(d / "v.exr")
-                view = "Other" if layer == "Other.Vector" else "ViewLayer"
-                parts += [d / "v.exr", "--chnames", ",".join(f"{view}.Vector.{c}" for c in "XYZW")]
+                prefix = {"Other.Vector": "Other.", "Vector": "ViewLayer.", "bare Vector": ""}[layer]
+                parts += [d / "v.exr", "--chnames", ",".join(f"{prefix}Vector.{c}" for c in "XYZW")]
         args = parts[:3]
         for i in range(3, len(parts), 3):
             args += parts[i:i + 3] + ["--chappend"]
@@ -97,6 +101,20 @@ def test_the_vector_layer_gives_what_its_own_files_give(tmp_path, shot):
     assert rel_mse(tmp_path / "farm" / "o.####.exr", tmp_path / "own" / "o.####.exr") == 0
 
 
+def test_layers_beside_channels_of_no_layer(tmp_path):
+    """Plain R, G, B (the beauty, as other renderers keep it) beside layers of data passes: the passes
+    are still their layers, not the whole file."""
+    shot = multilayer_shot(tmp_path / "shot", ("RGB", "bare Vector", "albedo"))
+    for f in FRAMES:
+        vectors_file(tmp_path / f"vector.{f:04d}.exr")
+    options = ["--method", "hybrid", "--mc_half_width", "2", "--float", "--quiet"]
+    run("denoise", NOISY / "indirect.####.exr", tmp_path / "own" / "o.####.exr", *options,
+        "--albedo", AUX / "albedo.####.exr", "--vectors", tmp_path / "vector.####.exr")
+    run("denoise", shot, tmp_path / "layers" / "o.####.exr", *options, "--channels", "R,G,B",
+        "--albedo", shot, "--vectors", shot)
+    assert rel_mse(tmp_path / "layers" / "o.####.exr", tmp_path / "own" / "o.####.exr") == 0
+
+
 def test_a_layer_named_among_several_view_layers(tmp_path):
     shot = multilayer_shot(tmp_path / "shot", ("Combined", "Vector", "Other.Vector"))
     for f in FRAMES:
@@ -110,6 +128,13 @@ def test_a_layer_named_among_several_view_layers(tmp_path):
     proc = run("denoise", shot, tmp_path / "o.####.exr", *options, "--channels", "ViewLayer.Combined",
                "--vectors", "ViewLayer.Motion", check_rc=1)
     assert "ViewLayer.Motion" in proc.stderr and "Other.Vector.X" in proc.stderr
+    assert "taken as a layer of the input's files" in proc.stderr
+    # A layer named through the albedo parameter makes a plan of the passes' format too.
+    plan = tmp_path / "plan.json"
+    run("plan", shot, tmp_path / "farm" / "o.####.exr", "--method", "hybrid", "--channels", "ViewLayer.Combined",
+        "--albedo", "ViewLayer.Combined", "-o", plan, "--quiet")
+    written = json.loads(plan.read_text())
+    assert written["version"] == 2 and written["front_end"]["parameters"]["albedo"] == "ViewLayer.Combined"
 
 
 @pytest.mark.parametrize("layers,pass_option,words", [
