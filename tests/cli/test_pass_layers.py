@@ -62,13 +62,19 @@ def rel_mse(a, b):
     return json.loads(run("compare", a, b, "--json").stdout)["rel_mse"]
 
 
+def assert_same_output(tmp_path, options, own, layered, label="layers"):
+    """The sample with the passes' own files (own: their options), and the multilayer shot (layered:
+    its input, channels and pass options): the same frames, to the bit. Returns both runs."""
+    own_run = run("denoise", NOISY / "indirect.####.exr", tmp_path / "own" / "o.####.exr", *options, *own)
+    layered_run = run("denoise", *layered[:1], tmp_path / label / "o.####.exr", *options, *layered[1:])
+    assert rel_mse(tmp_path / label / "o.####.exr", tmp_path / "own" / "o.####.exr") == 0
+    return own_run, layered_run
+
+
 def test_albedo_and_normal_layers_give_what_their_own_files_give(tmp_path, shot):
     options = ["--method", "hybrid", "--mc_half_width", "2", "--float", "--quiet"]
-    run("denoise", NOISY / "indirect.####.exr", tmp_path / "own" / "o.####.exr", *options,
-        "--albedo", AUX / "albedo.####.exr", "--normal", AUX / "normal.####.exr")
-    run("denoise", shot, tmp_path / "layers" / "o.####.exr", *options, "--channels", "ViewLayer.Combined",
-        "--albedo", shot, "--normal", shot)
-    assert rel_mse(tmp_path / "layers" / "o.####.exr", tmp_path / "own" / "o.####.exr") == 0
+    own = ["--albedo", AUX / "albedo.####.exr", "--normal", AUX / "normal.####.exr"]
+    assert_same_output(tmp_path, options, own, [shot, "--channels", "ViewLayer.Combined", "--albedo", shot, "--normal", shot])
     run("denoise", shot, tmp_path / "named" / "o.####.exr", *options, "--channels", "ViewLayer.Combined",
         "--albedo", "ViewLayer.DiffCol", "--normal", "ViewLayer.Normal")
     assert rel_mse(tmp_path / "named" / "o.####.exr", tmp_path / "own" / "o.####.exr") == 0
@@ -81,13 +87,9 @@ def test_the_vector_layer_gives_what_its_own_files_give(tmp_path, shot):
     for f in FRAMES:
         vectors_file(tmp_path / f"vector.{f:04d}.exr")
     options = ["--quality", "balanced", "--float", "--quiet"]
-    own = run("denoise", NOISY / "indirect.####.exr", tmp_path / "own" / "o.####.exr", *options,
-              "--vectors", tmp_path / "vector.####.exr", "--json")
-    layers = run("denoise", shot, tmp_path / "layers" / "o.####.exr", *options, "--channels", "ViewLayer.Combined",
-                 "--vectors", shot, "--json")
-    assert json.loads(layers.stdout)["results"]["hybrid.motion_compensation"] == "the renderer's motion vectors"
-    assert json.loads(own.stdout)["results"]["hybrid.motion_compensation"] == "the renderer's motion vectors"
-    assert rel_mse(tmp_path / "layers" / "o.####.exr", tmp_path / "own" / "o.####.exr") == 0
+    for proc in assert_same_output(tmp_path, options + ["--json"], ["--vectors", tmp_path / "vector.####.exr"],
+                                   [shot, "--channels", "ViewLayer.Combined", "--vectors", shot]):
+        assert json.loads(proc.stdout)["results"]["hybrid.motion_compensation"] == "the renderer's motion vectors"
 
     # The layer by name, in a plan: the tasks read it from the input's files.
     plan = tmp_path / "plan.json"
@@ -108,11 +110,8 @@ def test_layers_beside_channels_of_no_layer(tmp_path):
     for f in FRAMES:
         vectors_file(tmp_path / f"vector.{f:04d}.exr")
     options = ["--method", "hybrid", "--mc_half_width", "2", "--float", "--quiet"]
-    run("denoise", NOISY / "indirect.####.exr", tmp_path / "own" / "o.####.exr", *options,
-        "--albedo", AUX / "albedo.####.exr", "--vectors", tmp_path / "vector.####.exr")
-    run("denoise", shot, tmp_path / "layers" / "o.####.exr", *options, "--channels", "R,G,B",
-        "--albedo", shot, "--vectors", shot)
-    assert rel_mse(tmp_path / "layers" / "o.####.exr", tmp_path / "own" / "o.####.exr") == 0
+    assert_same_output(tmp_path, options, ["--albedo", AUX / "albedo.####.exr", "--vectors", tmp_path / "vector.####.exr"],
+                       [shot, "--channels", "R,G,B", "--albedo", shot, "--vectors", shot])
 
 
 def test_a_layer_named_among_several_view_layers(tmp_path):
@@ -120,11 +119,8 @@ def test_a_layer_named_among_several_view_layers(tmp_path):
     for f in FRAMES:
         vectors_file(tmp_path / f"vector.{f:04d}.exr")
     options = ["--quality", "balanced", "--float", "--quiet"]
-    run("denoise", NOISY / "indirect.####.exr", tmp_path / "own" / "o.####.exr", *options,
-        "--vectors", tmp_path / "vector.####.exr")
-    run("denoise", shot, tmp_path / "named" / "o.####.exr", *options, "--channels", "ViewLayer.Combined",
-        "--vectors", "Other.Vector")
-    assert rel_mse(tmp_path / "named" / "o.####.exr", tmp_path / "own" / "o.####.exr") == 0
+    assert_same_output(tmp_path, options, ["--vectors", tmp_path / "vector.####.exr"],
+                       [shot, "--channels", "ViewLayer.Combined", "--vectors", "Other.Vector"], "named")
     proc = run("denoise", shot, tmp_path / "o.####.exr", *options, "--channels", "ViewLayer.Combined",
                "--vectors", "ViewLayer.Motion", check_rc=1)
     assert "ViewLayer.Motion" in proc.stderr and "Other.Vector.X" in proc.stderr
