@@ -47,7 +47,7 @@ std::string front_end_json(const std::string& name, const Filter& f, const sf_re
         std::string value = f.params().get_string(spec.name);
         if (value == spec.default_value) continue;
         // A pass named by a parameter (the hybrid's "albedo", "normal") is files the tasks open, from
-        // any working directory (or a layer of the input's files, which the plan names absolutely).
+        // any working directory (a layer's name stays a name: the tasks read it from the plan's input).
         if (f.takes_input(spec.name) && pass_names_files(value)) value = absolute(value);
         o << (first ? "" : ", ") << json_quote(spec.name) << ": " << json_quote(value);
         first = false;

@@ -116,22 +116,20 @@ std::vector<std::string> split_list(const std::string& text) {
     return out;
 }
 
-// The pass a channel belongs to: the last part of its layer ("Diffuse Color" of
-// "ViewLayer.Diffuse Color.R"), or the channel's own name when it has no layer ("Z").
-std::string pass_of(const std::string& channel) {
-    const size_t dot = channel.rfind('.');
-    if (dot == std::string::npos) return channel;
-    const std::string layer = channel.substr(0, dot);
-    const size_t before = layer.rfind('.');
-    return before == std::string::npos ? layer : layer.substr(before + 1);
-}
-
 bool starts_with(const std::string& s, const std::string& prefix) { return s.compare(0, prefix.size(), prefix) == 0; }
 bool ends_with(const std::string& s, const std::string& suffix) {
     return s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
 }
 
 }  // namespace
+
+std::string channel_pass(const std::string& channel) {
+    const size_t dot = channel.rfind('.');
+    if (dot == std::string::npos) return channel;
+    const std::string layer = channel.substr(0, dot);
+    const size_t before = layer.rfind('.');
+    return before == std::string::npos ? layer : layer.substr(before + 1);
+}
 
 // Data and auxiliary passes: denoising them as light would corrupt them (normals, depth, IDs,
 // colours that multiply the light), and alpha is coverage, not light.
@@ -141,7 +139,7 @@ bool is_light_channel(const std::string& channel) {
                                         "indexob", "indexma", "uv", "position", "n", "p"};
     std::string lower = channel;
     for (char& c : lower) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-    const std::string pass = pass_of(lower);
+    const std::string pass = channel_pass(lower);
     for (const char* d : data_passes)
         if (pass == d) return false;
     if (ends_with(pass, "color") || starts_with(pass, "denoising") || starts_with(pass, "crypto")) return false;

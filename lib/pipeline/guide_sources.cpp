@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <utility>
 
 #include "statfilter/error.hpp"
 #include "statfilter/filter.hpp"
@@ -17,28 +18,27 @@ std::string lower(std::string s) {
     return s;
 }
 
-// The layer a channel belongs to ("ViewLayer.Vector" of "ViewLayer.Vector.X"), "" without one.
-std::string layer_of(const std::string& channel) {
-    const size_t dot = channel.rfind('.');
-    return dot == std::string::npos ? "" : channel.substr(0, dot);
-}
-
-// The pass a layer holds: its last part ("Vector" of "ViewLayer.Vector").
-std::string pass_of_layer(const std::string& layer) {
-    const size_t dot = layer.rfind('.');
-    return dot == std::string::npos ? layer : layer.substr(dot + 1);
+// The file of `frames`' first frame (else the first on disk) that a pattern names.
+std::string first_file(const std::string& pattern, const std::vector<int64_t>& frames) {
+    const FramePattern files(pattern);
+    if (!files.has_frame_token()) return pattern;
+    if (!frames.empty()) return files.format(frames.front());
+    const std::vector<int64_t> on_disk = files.scan();
+    return on_disk.empty() ? pattern : files.format(on_disk.front());
 }
 
 }  // namespace
 
 std::string pass_channels(const std::string& name, const std::string& pattern, const std::vector<int64_t>& frames) {
-    const FramePattern files(pattern);
-    const std::vector<int64_t> on_disk = frames.empty() ? files.scan() : std::vector<int64_t>();
-    const std::string path = !frames.empty() ? files.format(frames.front()) : on_disk.empty() ? pattern : files.format(on_disk.front());
-    std::vector<std::string> layers;
+    const std::string path = first_file(pattern, frames);
+    // The file's layers, each with the pass it holds (its last part: "Vector" of "ViewLayer.Vector").
+    std::vector<std::pair<std::string, std::string>> layers;
     for (const std::string& channel : select_file_channels(path, "*")) {
-        const std::string layer = layer_of(channel);
-        if (!layer.empty() && std::find(layers.begin(), layers.end(), layer) == layers.end()) layers.push_back(layer);
+        const size_t dot = channel.rfind('.');
+        if (dot == std::string::npos) continue;
+        const std::string layer = channel.substr(0, dot);
+        if (std::none_of(layers.begin(), layers.end(), [&](const auto& l) { return l.first == layer; }))
+            layers.emplace_back(layer, lower(channel_pass(channel)));
     }
     // No layer: a file of one pass, read whole. With layers, the pass's own, even beside channels of
     // no layer (other renderers keep the beauty as plain R, G, B next to layers of data passes).
@@ -49,11 +49,11 @@ std::string pass_channels(const std::string& name, const std::string& pattern, c
                                            : name == "albedo" ? std::vector<std::string>{"albedo", "denoising albedo", "diffcol"}
                                                               : std::vector<std::string>{"normal", "denoising normal", "n"};
     std::string listed;
-    for (const std::string& layer : layers) listed += (listed.empty() ? "" : ", ") + layer;
+    for (const auto& layer : layers) listed += (listed.empty() ? "" : ", ") + layer.first;
     for (const std::string& wanted : names) {
         std::vector<std::string> found;
-        for (const std::string& layer : layers)
-            if (lower(pass_of_layer(layer)) == wanted) found.push_back(layer);
+        for (const auto& [layer, pass] : layers)
+            if (pass == wanted) found.push_back(layer);
         if (found.size() == 1) return found.front();
         if (found.size() > 1)
             throw Error(Status::InvalidArgument, "the " + name + " pass '" + path + "' has several layers it could be (" +
@@ -83,10 +83,8 @@ PassFiles pass_files(const std::string& name, const std::string& value, const Se
     const std::string& own = input.source().pattern;
     if (own.empty()) throw Error(Status::InvalidArgument, taken + ", but the input was not read from files");
     // The layer checked on the input's first file now, so that a typo says how the value was read.
-    const FramePattern files(own);
-    const std::vector<int64_t>& frames = input.frame_numbers();
     try {
-        select_file_channels(frames.empty() || !files.has_frame_token() ? own : files.format(frames.front()), value);
+        select_file_channels(first_file(own, input.frame_numbers()), value);
     } catch (const Error& e) {
         throw Error(e.status(), taken + ": " + e.what());
     }

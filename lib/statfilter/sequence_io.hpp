@@ -49,6 +49,9 @@ struct OutputChecks {
     bool overwrite = false;         // ... unless told to
 };
 
+// The pass a channel belongs to: the last part of its layer ("Diffuse Color" of
+// "ViewLayer.Diffuse Color.R"), or the channel's own name when it has no layer ("Z").
+std::string channel_pass(const std::string& channel);
 // False for the data and auxiliary passes a default selection leaves out of a layered file.
 bool is_light_channel(const std::string& channel);
 // The channels of one file (as named there) that ReadOptions::channels takes, in order.
