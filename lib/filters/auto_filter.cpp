@@ -8,9 +8,9 @@
 //                (almost) nothing moves: global PCA, the cheapest and the best on a still camera
 //                with changing light (cornell_light);
 //                something moves: the hybrid with motion compensation at its fast settings (DIS
-//                ultrafast flow, 4 frames a side, on its first pass: at these settings the albedo/
-//                normal passes were no better and reading them cost more): per-pixel ranks where
-//                still, frames aligned along the flow where things move. On camera
+//                ultrafast flow, 4 frames a side, on its first pass, or on the albedo/normal passes
+//                when given): per-pixel ranks where still, frames aligned along the flow where
+//                things move. On camera
 //                motion it lowered relMSE ~35% against the error threshold method, on local motion
 //                5-10%, at ~2.5x its time (docs/methods.md, "Motion compensation").
 //   high     - the hybrid at its default (more accurate) flow, or global PCA on a still scene, then
@@ -84,9 +84,10 @@ Choice choose(const std::string& quality, double moving, bool still, bool passes
     } else {
         c.method = "hybrid";
         c.refine = true;
+        c.passes = passes;
         c.params = {{"mc_flow", "ultrafast"}, {"mc_half_width", "4"}};
-        c.reason = prefix + ": the hybrid, per-pixel ranks where still and frames aligned along a fast optical flow "
-                            "where things move; then a light diffusion pass";
+        c.reason = prefix + ": the hybrid, per-pixel ranks where still and frames aligned along a fast optical flow " +
+                   (passes ? "on the albedo/normal passes " : "") + "where things move; then a light diffusion pass";
     }
     c.reason += oidn_note;
     return c;
@@ -291,7 +292,7 @@ private:
     }
 
     // What the preset picked, from the motion the analysis measured; returns whether the scene is still.
-    // passes: the albedo/normal passes are given and used (high without OIDN).
+    // passes: the albedo/normal passes are given and used (balanced, and high without OIDN).
     bool report_choice(const Results& own, const NoiseInTime& noise, Results& results, bool passes = false) const {
         const double moving = own.get_float("motion_fraction");
         const bool still = moving < still_fraction_;
@@ -386,9 +387,10 @@ public:
             HybridStageOptions options = hybrid_stage_options(hybrid, temporal_sees_prefilter(stages));
             // else Filter::execute runs the user's postfilter, or the prefilter in its place
             options.refine_after = params().get_string("postfilter").empty() && !prefilter_runs_last(stages);
-            // The albedo/normal passes guide high without OIDN (as the hybrid alone); balanced and
-            // high with OIDN follow the vectors only.
-            options.passes.surfaces = quality == "high" && !picks_oidn();
+            // The albedo/normal passes guide the hybrid without OIDN (balanced, and high when OIDN cannot
+            // run): the flow runs on them and they say where things move. high with OIDN follows the
+            // vectors only.
+            options.passes.surfaces = !picks_oidn();
             count_named_passes(*this, params(), options.passes);
             // high without OIDN says why (OIDN only when the user named no prefilter of their own).
             const std::string problem =
@@ -435,16 +437,14 @@ private:
     }
 
     // The hybrid's parameters as balanced or high (without OIDN) runs it: its defaults, the user's
-    // temporal and motion parameters (high: with the albedo/normal passes), the preset's settings.
+    // temporal and motion parameters (the albedo/normal passes among them), the preset's settings.
     ParamSet hybrid_params() const {
         ParamSet p = create_filter("hybrid")->params();
         const std::string quality = params().get_string("quality");
         for (const char* name : {"transform_scale", "firefly_z", "keep_mean", "nonfinite", "shared_basis", "memory_mb", "still_fraction"})
             p.set_string(name, params().get_string(name));
         p.set_string("transform", resolved_transform());
-        for (const auto& spec : motion_params())
-            if (quality == "high" || (spec.name != "albedo" && spec.name != "normal"))
-                p.set_string(spec.name, params().get_string(spec.name));
+        for (const auto& spec : motion_params()) p.set_string(spec.name, params().get_string(spec.name));
         if (quality == "balanced") {
             p.set_string("mc_flow", "ultrafast");
             p.set_string("mc_half_width", "4");
