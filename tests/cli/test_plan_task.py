@@ -33,6 +33,9 @@ CASES = [
     # The renderer's passes read by the window plan's tasks: the analysis in bands, the windows by frame.
     (["--method", "hybrid", "--mc_half_width", "2", "--albedo", str(SAMPLE / "cornell_moving" / "aux" / "albedo.####.exr"),
       "--normal", str(SAMPLE / "cornell_moving" / "aux" / "normal.####.exr")], ["--frames-per-task", "5"], "window", True),
+    # balanced aligns along the flow on the passes as the hybrid does.
+    (["--quality", "balanced", "--albedo", str(SAMPLE / "cornell_moving" / "aux" / "albedo.####.exr"),
+      "--normal", str(SAMPLE / "cornell_moving" / "aux" / "normal.####.exr")], ["--frames-per-task", "5"], "window", True),
 ]
 
 
