@@ -9,7 +9,8 @@ prior: the estimates alone):
 - oracle: w = sum (y - ref) d / sum d^2, the reference's least-squares share (the blend's best);
 - naive: w from sum (y - x) d alone (no Stein term);
 - stein y: plus sigma^2 sum dy/dx, the term the library adds (dy/dx from a second run on x + eps b);
-- stein y, z: minus sigma^2 sum dz/dx as well (z depends on x too: OIDN on the temporal result of x).
+- stein y, z: minus sigma^2 sum dz/dx as well (z depends on x too: OIDN on the temporal result of x);
+- pooled, y and pooled, y, z: the same two with the library's pooling over +-2 frames and prior.
 
 Usage: python3 bench/trust_oracle.py --scene DIR --level spp0004 [--cli build-release/tools/statfilter]
 (the Python package of the same build on PYTHONPATH, STATFILTER_LIBRARY naming its library).
@@ -52,6 +53,26 @@ def blend(y, d, share):
     return out
 
 
+def pooled_blend(y, d, num, sigma2, pool=2):
+    """The library's form: each tile's sums pooled over frames t - pool .. t + pool, the fit weighed
+    against the prior w = 1 by its evidence sum d^2 / sigma^2 (lib/time_trust.cpp)."""
+    frames = y.shape[0]
+    key = lambda s: (s[0], s[1].start, s[2].start)  # noqa: E731 (slices are not hashable before 3.12)
+    sums = {key(s): (float(num(s)), float((d[s] * d[s]).sum()), float(sigma2[s].mean())) for s in tiles(y.shape)}
+    out = np.empty_like(y)
+    for s in tiles(y.shape):
+        f = s[0]
+        near = [(g, s[1].start, s[2].start) for g in range(max(0, f - pool), min(frames - 1, f + pool) + 1)]
+        n = sum(sums[k][0] for k in near)
+        den = sum(sums[k][1] for k in near)
+        noise = sum(sums[k][2] for k in near) / len(near)
+        evidence = den / noise if noise > 0 else 0.0
+        fit = float(np.clip(n / den, 0, 1)) if den > 0 else 1.0
+        w = (evidence * fit + 1.0) / (evidence + 1.0)
+        out[s] = y[s] - w * d[s]
+    return out
+
+
 def main():
     p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("--scene", required=True, help="a scene folder: LEVEL/indirect.####.exr and ref/indirect.####.exr")
@@ -89,6 +110,8 @@ def main():
         "naive w": blend(y, d, lambda s: ((y[s] - x[s]) * d[s]).sum()),
         "stein y": blend(y, d, lambda s: ((y[s] - x[s]) * d[s]).sum() + (s2[s] * dy[s]).sum()),
         "stein y, z": blend(y, d, lambda s: ((y[s] - x[s]) * d[s]).sum() + (s2[s] * (dy[s] - dz[s])).sum()),
+        "pooled, y": pooled_blend(y, d, lambda s: ((y[s] - x[s]) * d[s]).sum() + (s2[s] * dy[s]).sum(), s2),
+        "pooled, y, z": pooled_blend(y, d, lambda s: ((y[s] - x[s]) * d[s]).sum() + (s2[s] * (dy[s] - dz[s])).sum(), s2),
     }
     oidn = rel_mse(y, ref)
     print(f"{scene.name} {a.level}: relMSE (/ OIDN's)")
