@@ -50,11 +50,17 @@ TUNABLE = {
 
 
 def scenes(data):
+    """(scene folder, its levels) of every scene under `data`: one folder, or several separated by
+    commas (the shared renders and a validation scene's folder: bench/validation_scene.py)."""
     out = []
-    for scene in sorted(p for p in data.iterdir() if (p / "ref").is_dir()):
-        levels = [lv for lv in LEVELS if any((scene / lv).glob("indirect.*.exr"))]
-        if levels:
-            out.append((scene, levels))
+    for folder in str(data).split(","):
+        for scene in sorted(p for p in Path(folder).iterdir() if (p / "ref").is_dir()):
+            levels = [lv for lv in LEVELS if any((scene / lv).glob("indirect.*.exr"))]
+            if levels:
+                out.append((scene, levels))
+    names = [scene.name for scene, _ in out]
+    if len(set(names)) != len(names):
+        sys.exit(f"two scenes of the same name under {data}: {sorted(n for n in set(names) if names.count(n) > 1)}")
     return out
 
 
@@ -124,7 +130,8 @@ def bench_arguments(description, doc):
     """The command line the quality benches share: the CLI measured, the data folder, the document."""
     p = argparse.ArgumentParser(description=description, formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("--cli", default=str(ROOT / "build" / "tools" / "statfilter"))
-    p.add_argument("--data", default=str(ROOT.parent / "shared" / "data"))
+    p.add_argument("--data", default=str(ROOT.parent / "shared" / "data"),
+                   help="the scenes' folder, or several separated by commas")
     p.add_argument("--doc", default=str(ROOT / "docs" / doc))
     return p
 

@@ -127,6 +127,8 @@ def main():
                     rows.append(dict(fig, scene=scene.name, level=lv, label=label,
                                      ratio=fig["rel_mse"] / oidn["rel_mse"], checks=checks(label, lv, fig, oidn)))
     command = "python3 bench/quality_targets.py" + ("" if args.configs == ",".join(CONFIGS) else " --configs " + args.configs)
+    if args.data != p.get_default("data"):  # named by its folders' names: no path of this machine in the docs
+        command += " --data " + ",".join(Path(d).name for d in args.data.split(","))
     doc = Path(args.doc)
     # A run of some configurations keeps the others' rows from the last run's figures.
     kept, note = [], ""
