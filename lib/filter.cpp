@@ -87,9 +87,27 @@ void Filter::execute(const Sequence& input, Sequence& output, const Progress& pr
     run(*source, *target, slice(progress, pre_span, 1 - pre_span - post_span));
     if (last) {  // the prefilter on the temporal result, scaled back to its light (the noisy shot's)
         FrameStagePool pool("prefilter", stages);
-        filter_frames(pool, *target, *noisy, resolve_threads(0), {progress, 1 - post_span, post_span, "prefilter"},
-                      keeps_prefilter_light(stages));
+        const std::vector<float> gain =
+            filter_frames(pool, *target, *noisy, resolve_threads(0), {progress, 1 - post_span, post_span, "prefilter"},
+                          keeps_prefilter_light(stages));
         pool.add_results(results_);
+        if (trust && time_trust_options(stages).temporal_probe) {
+            // z = P(T(x)) depends on the noisy frame too: T and P once more on the probe's frames,
+            // scaled as z was, give the fit the rest of its Stein correction (as the streamed run).
+            Sequence probed(input.shape());
+            probed.copy_attributes_from(*noisy);
+            const auto noisy_source = memory_source(*noisy);
+            const auto from = probed_source(*noisy_source, *trust);
+            for (int64_t f = 0; f < input.shape().frames; ++f)
+                from->read_rows(f, 0, input.shape().height, &probed.at(f, 0, 0, 0));
+            Sequence again(input.shape());
+            const Results kept = results_;  // the run's results are the first run's
+            run(probed, again, slice(progress, 1 - post_span, 0));
+            results_ = kept;
+            filter_frames(pool, again, *noisy, resolve_threads(0), {progress, 1 - post_span, 0, "prefilter"}, false);
+            if (!gain.empty()) scale_channels(again, gain, resolve_threads(0));
+            probe_temporal_result(*trust, *noisy, *prefiltered, *target, again, resolve_threads(0));
+        }
     }
     if (trust) results_.set("prefilter_trust.share", blend_toward_prefilter(*trust, *noisy, *prefiltered, *target, resolve_threads(0)));
     if (post) run_frame_stage("postfilter", stages, *filtered, output, slice(progress, 1 - post_span, post_span), results_);

@@ -18,6 +18,13 @@ float random_sign(int64_t frame, int64_t sample) {
     return (z & 1) ? 1.0f : -1.0f;
 }
 
+// Sample i of frame f as the probe sees it: x + eps b, held non-negative where x is (renders are
+// non-negative: so is what the prefilter sees).
+float probe_sample(float x, double eps, int64_t frame, int64_t sample) {
+    const float v = x + static_cast<float>(eps) * random_sign(frame, sample);
+    return x >= 0 && v < 0 ? 0.0f : v;
+}
+
 // Position of pixel coordinate i among tile centres: index of the tile before it and the weight of
 // the next one (clamped at the borders).
 void between_centres(int64_t i, int64_t tile, int64_t tiles, int64_t& first, double& t) {
@@ -45,7 +52,7 @@ TimeTrust::TimeTrust(const Shape& shape, const TimeTrustOptions& options)
       tiles_y_((shape.height + options.tile - 1) / options.tile),
       stein_(static_cast<size_t>(shape.frames)), sigma2_(static_cast<size_t>(shape.frames)),
       num_(static_cast<size_t>(shape.frames)), den_(static_cast<size_t>(shape.frames)),
-      limit_(static_cast<size_t>(shape.frames)) {}
+      limit_(static_cast<size_t>(shape.frames)), eps_(static_cast<size_t>(shape.frames)) {}
 
 void TimeTrust::probe(int64_t f, const float* x, const float* y, const std::function<void(float*)>& prefilter) {
     const int64_t samples = shape_.width * shape_.height * shape_.channels;
@@ -80,8 +87,7 @@ void TimeTrust::probe(int64_t f, const float* x, const float* y, const std::func
     for (size_t t = 0; t < sigma2.size(); ++t) eps[t] = options_.probe * std::sqrt(sigma2[t]);
     std::vector<float> perturbed(x, x + samples), step(static_cast<size_t>(samples), 0.0f);
     each_sample_by_tile(shape_, options_.tile, tiles_x_, [&](size_t t, int64_t i) {
-        float v = x[i] + static_cast<float>(eps[t]) * random_sign(f, i);
-        if (x[i] >= 0 && v < 0) v = 0;  // renders are non-negative: so is what the prefilter sees
+        const float v = probe_sample(x[i], eps[t], f, i);
         step[static_cast<size_t>(i)] = v - x[i];
         perturbed[static_cast<size_t>(i)] = v;
     });
@@ -97,6 +103,35 @@ void TimeTrust::probe(int64_t f, const float* x, const float* y, const std::func
     stein_[static_cast<size_t>(f)] = std::move(stein);
     sigma2_[static_cast<size_t>(f)] = std::move(sigma2);
     limit_[static_cast<size_t>(f)] = std::move(limit);
+    eps_[static_cast<size_t>(f)] = std::move(eps);
+}
+
+void TimeTrust::perturb_rows(int64_t f, int64_t y0, int64_t y1, float* rows) const {
+    const std::vector<double>& eps = eps_[static_cast<size_t>(f)];
+    if (eps.empty()) throw Error(Status::Internal, "time trust: frame " + std::to_string(f) + " was not probed");
+    const int64_t W = shape_.width, C = shape_.channels, tile = options_.tile;
+    for (int64_t py = y0; py < y1; ++py)
+        for (int64_t px = 0; px < W; ++px) {
+            const double e = eps[static_cast<size_t>((py / tile) * tiles_x_ + px / tile)];
+            for (int64_t c = 0; c < C; ++c) {
+                float& v = rows[((py - y0) * W + px) * C + c];
+                v = probe_sample(v, e, f, (py * W + px) * C + c);
+            }
+        }
+}
+
+void TimeTrust::probe_temporal(int64_t f, const float* x, const float* y, const float* z, const float* z_probed) {
+    std::vector<double>& stein = stein_[static_cast<size_t>(f)];
+    if (stein.empty()) throw Error(Status::Internal, "time trust: frame " + std::to_string(f) + " was not probed");
+    const std::vector<double>& eps = eps_[static_cast<size_t>(f)];
+    const std::vector<double>& sigma2 = sigma2_[static_cast<size_t>(f)];
+    const std::vector<double>& limit = limit_[static_cast<size_t>(f)];
+    each_sample_by_tile(shape_, options_.tile, tiles_x_, [&](size_t t, int64_t i) {
+        const double s = static_cast<double>(probe_sample(x[i], eps[t], f, i)) - x[i];
+        if (s == 0 || !(std::fabs(static_cast<double>(x[i]) - y[i]) <= limit[t])) return;  // as probe()'s samples
+        const double d = sigma2[t] * (static_cast<double>(z_probed[i]) - z[i]) / s;
+        if (std::isfinite(d)) stein[t] -= d;
+    });
 }
 
 void TimeTrust::measure(int64_t f, const float* x, const float* y, const float* z) {

@@ -31,7 +31,15 @@ std::vector<ParamSpec> prefilter_params() {
                                    "first: the temporal filter works on the prefilter's frames; last: it works on the noisy "
                                    "frames and the prefilter runs on its result in place of the postfilter (the prefilter's "
                                    "frames of the noisy shot are then only what the trust blend falls back to)");
-    return {name, list, trust, order, tile, pool, probe};
+    // prefilter stays the default: both lowers relMSE where time misleads (a camera dolly over textured
+    // walls: 1.44x -> 1.10x OIDN's at 4 spp) but doubles the still-scene flicker (docs/quality_targets.md).
+    ParamSpec stein = choice_param("prefilter_trust_stein", "prefilter", {"prefilter", "both"},
+                                   "with prefilter_order=last, what the trust blend's fit corrects for having been measured "
+                                   "against the noisy frame both results were made from: prefilter (the prefilter's frame "
+                                   "only: leans towards time, steadiest) or both (the temporal result's too: unbiased, lower "
+                                   "error where time misleads, more flicker where it does not; runs the temporal filter and "
+                                   "the prefilter once more on the probe's frames)");
+    return {name, list, trust, order, tile, pool, probe, stein};
 }
 
 TimeTrustOptions time_trust_options(const ParamSet& params) {
@@ -39,6 +47,8 @@ TimeTrustOptions time_trust_options(const ParamSet& params) {
     o.tile = params.get_int("prefilter_trust_tile");
     o.pool = params.get_int("prefilter_trust_pool");
     o.probe = params.get_float("prefilter_trust_probe");
+    o.temporal_probe = params.has("prefilter_trust_stein") && params.get_string("prefilter_trust_stein") == "both" &&
+                       prefilter_runs_last(params);
     if (params.has("firefly_z")) o.outlier_z = params.get_float("firefly_z");
     return o;
 }

@@ -151,8 +151,12 @@ void Filter::execute(const FrameSource& source, FrameSink& sink, const RunOption
         std::vector<std::vector<double>> before_last(last_light ? static_cast<size_t>(s.frames) : 0), after_last(before_last.size());
         std::unique_ptr<ScratchFrames> temporal;
         if (trust || last_light) temporal = std::make_unique<ScratchFrames>(s, source.attributes());
+        // With the temporal result's probe the stage runs twice: each run half of what is left before
+        // the blend.
+        const bool probe_temporal = trust && time_trust_options(stages).temporal_probe;
+        const double stage_end = probe_temporal ? start + 0.5 * (0.95 - start) : 1.0;
         const Progress stage_progress([&](double fraction, const char* name) {
-            progress.report(start + (1 - start) * fraction, name);
+            progress.report(start + (stage_end - start) * fraction, name);
             return true;
         });
         StageContext context;
@@ -175,7 +179,30 @@ void Filter::execute(const FrameSource& source, FrameSink& sink, const RunOption
             sink.write_frame(f, pixels);
         }, context, results_);
         if (temporal) {
-            if (last_light) temporal->set_gain(light_gain(before_last, after_last));
+            std::vector<float> gain;
+            if (last_light) temporal->set_gain(gain = light_gain(before_last, after_last));
+            if (probe_temporal) {
+                // z = P(T(x)) depends on the noisy frame too: the stage and the prefilter once more, on
+                // the probe's frames, scaled as z is, give the fit the rest of its Stein correction.
+                const auto probed = probed_source(source, *trust);
+                const Progress probe_progress([&](double fraction, const char* name) {
+                    progress.report(stage_end + (0.95 - stage_end) * fraction, name);
+                    return true;
+                });
+                StageContext again = context;
+                again.progress = &probe_progress;
+                Results ignored;  // the run's results are the first run's
+                stage->run(*probed, [&](int64_t f, float* pixels) {
+                    prefilter->apply(f, pixels, s, source.attributes());
+                    if (!gain.empty())
+                        for (size_t i = 0; i < samples; ++i) pixels[i] *= gain[i % static_cast<size_t>(s.channels)];
+                    std::vector<float> noisy(samples), prefiltered(samples), z(samples);
+                    source.read_rows(f, 0, s.height, noisy.data());
+                    scratch->read_rows(f, 0, s.height, prefiltered.data());
+                    temporal->read_rows(f, 0, s.height, z.data());
+                    trust->probe_temporal(f, noisy.data(), prefiltered.data(), z.data(), pixels);
+                }, again, ignored);
+            }
             // The fit is measured on the frames as they will be blended (scaled), as in memory.
             if (trust)
                 parallel_for(s.frames, threads, [&](int64_t f) {

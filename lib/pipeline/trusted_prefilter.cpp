@@ -21,8 +21,8 @@ void prefilter_and_probe(FrameStagePool& prefilter, const Sequence& noisy, Seque
     }, progress);
 }
 
-void filter_frames(FrameStagePool& filter, Sequence& frames, const Sequence& attributes, int threads,
-                   const ProgressSpan& progress, bool keep_light) {
+std::vector<float> filter_frames(FrameStagePool& filter, Sequence& frames, const Sequence& attributes, int threads,
+                                 const ProgressSpan& progress, bool keep_light) {
     const Shape& s = frames.shape();
     const Shape one{1, s.height, s.width, s.channels};
     std::vector<std::vector<double>> before(static_cast<size_t>(s.frames)), after(before.size());
@@ -34,7 +34,10 @@ void filter_frames(FrameStagePool& filter, Sequence& frames, const Sequence& att
         if (keep_light) after[static_cast<size_t>(f)] = channel_sums(x.data(), one);
         frames.set_frame(f, x.data());
     }, progress);
-    if (keep_light) scale_channels(frames, light_gain(before, after), threads);
+    if (!keep_light) return {};
+    std::vector<float> gain = light_gain(before, after);
+    scale_channels(frames, gain, threads);
+    return gain;
 }
 
 void scale_channels(Sequence& frames, const std::vector<float>& gain, int threads) {
@@ -110,6 +113,44 @@ double blend_toward_prefilter(TimeTrust& trust, const Sequence& noisy, const Seq
     double mean = 0;
     for (double v : share) mean += v;
     return s.frames > 0 ? mean / static_cast<double>(s.frames) : 1.0;
+}
+
+namespace {
+
+class ProbedSource final : public FrameSource {
+public:
+    ProbedSource(const FrameSource& source, const TimeTrust& trust) : source_(source), trust_(trust) {}
+    const Shape& shape() const override { return source_.shape(); }
+    const Sequence& attributes() const override { return source_.attributes(); }
+    void read_rows(int64_t f, int64_t y0, int64_t y1, float* dst) const override {
+        source_.read_rows(f, y0, y1, dst);
+        trust_.perturb_rows(f, y0, y1, dst);
+    }
+
+private:
+    const FrameSource& source_;
+    const TimeTrust& trust_;
+};
+
+}  // namespace
+
+std::unique_ptr<FrameSource> probed_source(const FrameSource& source, const TimeTrust& trust) {
+    return std::make_unique<ProbedSource>(source, trust);
+}
+
+void probe_temporal_result(TimeTrust& trust, const Sequence& noisy, const Sequence& prefiltered, const Sequence& result,
+                           const Sequence& probed_result, int threads) {
+    const Shape& s = noisy.shape();
+    const auto samples = static_cast<size_t>(s.pixels() * s.channels);
+    const Progress none;
+    parallel_for(s.frames, threads, [&](int64_t f) {
+        std::vector<float> x(samples), y(samples), z(samples), zp(samples);
+        noisy.get_frame(f, x.data());
+        prefiltered.get_frame(f, y.data());
+        result.get_frame(f, z.data());
+        probed_result.get_frame(f, zp.data());
+        trust.probe_temporal(f, x.data(), y.data(), z.data(), zp.data());
+    }, ProgressSpan{none, 0, 1, "blend"});
 }
 
 }  // namespace statfilter

@@ -1,8 +1,10 @@
 // The prefilter with its probe, and the temporal result blended back towards it, on a shot in memory
 // (statfilter/time_trust.hpp; the streamed form is in the scheduler, frame by frame).
 #pragma once
+#include <memory>
 #include <vector>
 
+#include "pipeline/frame_source.hpp"
 #include "pipeline/frame_stage_pool.hpp"
 #include "statfilter/progress.hpp"
 #include "statfilter/sequence.hpp"
@@ -17,8 +19,9 @@ void prefilter_and_probe(FrameStagePool& prefilter, const Sequence& noisy, Seque
 // shot's frame numbers and channel names. With keep_light the result is scaled back to the light
 // frames had (light_gain of their sums before and after): a single-frame denoiser does not keep it,
 // least of all where it has little to see (a one-row crop lost 12% of its light to OIDN).
-void filter_frames(FrameStagePool& filter, Sequence& frames, const Sequence& attributes, int threads,
-                   const ProgressSpan& progress, bool keep_light);
+// Returns the gain applied (empty without keep_light).
+std::vector<float> filter_frames(FrameStagePool& filter, Sequence& frames, const Sequence& attributes, int threads,
+                                 const ProgressSpan& progress, bool keep_light);
 // Every frame of result (the temporal filter's output on prefiltered) blended back towards
 // prefiltered where noisy does not support the change; returns the mean share kept.
 // A single-frame denoiser does not keep the light (OIDN brightens 4-spp frames by ~0.9%); the noisy
@@ -35,5 +38,12 @@ void scale_channels(Sequence& frames, const std::vector<float>& gain, int thread
 
 double blend_toward_prefilter(TimeTrust& trust, const Sequence& noisy, const Sequence& prefiltered,
                               Sequence& result, int threads);
+// The noisy frames as the trust blend's probe saw them (TimeTrust::perturb_rows), read through source:
+// the temporal filter's second run, for its own Stein term. Every frame must have been probed.
+std::unique_ptr<FrameSource> probed_source(const FrameSource& source, const TimeTrust& trust);
+// TimeTrust::probe_temporal on every frame of a shot in memory: result = P(T(noisy)), probed_result
+// = P(T(probe)), both scaled alike.
+void probe_temporal_result(TimeTrust& trust, const Sequence& noisy, const Sequence& prefiltered, const Sequence& result,
+                           const Sequence& probed_result, int threads);
 
 }  // namespace statfilter

@@ -35,6 +35,9 @@ struct TimeTrustOptions {
     // deviation: a render's noise is heavy-tailed, and cut at 8 median deviations its tail went too
     // (relMSE of --quality high 7% higher at 4 spp).
     double outlier_z = 8;
+    // The prefilter runs last and the temporal result's own dependence on the noisy frame is probed
+    // too (perturb_rows, probe_temporal: the pipeline runs them).
+    bool temporal_probe = false;
 };
 
 class TimeTrust {
@@ -45,6 +48,15 @@ public:
     // and one more run of P (filters a frame in place) on a perturbed copy of x. Frames may be
     // probed from several threads at once.
     void probe(int64_t f, const float* x, const float* y, const std::function<void(float*)>& prefilter);
+    // With a temporal result that is itself made from x (the prefilter run last: z = P(T(x))), S must
+    // count z's dependence on x too, S = sum sigma^2 (dy/dx - dz/dx): without it the fit leans towards
+    // time (on a scene it was not tuned on, 1.45x OIDN's relMSE at 4 spp against 1.19x with it;
+    // docs/methods.md). dz/dx comes from a second run of T and P on the probe's frames:
+    // rows y0..y1 of frame f of the probe, x + eps b as probe() made it, written over x's rows.
+    void perturb_rows(int64_t f, int64_t y0, int64_t y1, float* rows) const;
+    // Frame f's z and z_probed = P(T(probe)) (the same light gain): sigma^2 dz/dx taken from its Stein
+    // correction, over the samples probe() counted. Before measure(f).
+    void probe_temporal(int64_t f, const float* x, const float* y, const float* z, const float* z_probed);
     // The fit's sums for frame f from its noisy, prefiltered and temporal pixels (any frame order,
     // from several threads at once), once every frame is probed.
     void measure(int64_t f, const float* x, const float* y, const float* z);
@@ -59,8 +71,8 @@ private:
     TimeTrustOptions options_;
     int64_t tiles_x_, tiles_y_;
     // [frame][tile]: Stein's correction, noise variance, the fit's numerator and denominator, the
-    // largest |x - y| a witness may have
-    std::vector<std::vector<double>> stein_, sigma2_, num_, den_, limit_;
+    // largest |x - y| a witness may have, the probe's step eps
+    std::vector<std::vector<double>> stein_, sigma2_, num_, den_, limit_, eps_;
 };
 
 }  // namespace statfilter

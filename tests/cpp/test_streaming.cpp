@@ -122,6 +122,10 @@ const std::vector<std::pair<std::string, std::vector<std::pair<std::string, std:
     {"pca", {{"rank", "2"}, {"postfilter", "diffusion"}, {"postfilter_params", "iterations=3,k=3"}}},
     {"pca", {{"rank", "2"}, {"prefilter", "diffusion"}, {"prefilter_params", "iterations=2"}}},
     {"pca", {{"rank", "2"}, {"prefilter", "diffusion"}, {"prefilter_params", "iterations=2"}, {"prefilter_order", "last"}}},
+    // The trust blend's fit corrected for the temporal result's own dependence on the noisy frame: the
+    // stage and the prefilter run again on the probe's frames, streamed as in memory.
+    {"pca", {{"prefilter_trust_stein", "both"}, {"rank", "2"}, {"prefilter", "diffusion"}, {"prefilter_params", "iterations=2"},
+             {"prefilter_order", "last"}}},
     {"auto", {{"quality", "fast"}}},
     {"error-threshold", {}},
     {"error-threshold", {{"postfilter", "diffusion"}, {"postfilter_params", "iterations=3,k=3"}}},

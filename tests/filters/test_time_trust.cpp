@@ -139,6 +139,42 @@ TEST(TimeTrust, SteinsCorrectionLetsATrueTemporalResultThrough) {
     for (double share : blend_all(s, z)) EXPECT_GT(share, 0.85);
 }
 
+// A temporal result made from the noisy frame itself (here: the noisy frame, a temporal filter that
+// removed nothing) depends on it as the prefilter does. Counting only the prefilter's dependence, the
+// fit takes it for support and keeps the noise; counting both (probe_temporal, with the temporal
+// result of the probe's frames), it falls back to the prefiltered frame.
+TEST(TimeTrust, ATemporalResultMadeFromTheNoisyFrameCountsItsOwnDependence) {
+    const Frames s = make_frames(6, 0.3);
+    const auto frames = static_cast<int64_t>(s.noisy.size());
+    for (const bool both : {false, true}) {
+        TimeTrust trust(Shape{frames, kH, kW, kC});
+        for (int64_t f = 0; f < frames; ++f)
+            trust.probe(f, s.noisy[static_cast<size_t>(f)].data(), s.prefiltered[static_cast<size_t>(f)].data(), box_blur);
+        if (both)
+            for (int64_t f = 0; f < frames; ++f) {
+                std::vector<float> probed = s.noisy[static_cast<size_t>(f)];
+                trust.perturb_rows(f, 0, kH, probed.data());  // the temporal result of the probe: itself
+                trust.probe_temporal(f, s.noisy[static_cast<size_t>(f)].data(), s.prefiltered[static_cast<size_t>(f)].data(),
+                                     s.noisy[static_cast<size_t>(f)].data(), probed.data());
+            }
+        for (int64_t f = 0; f < frames; ++f)
+            trust.measure(f, s.noisy[static_cast<size_t>(f)].data(), s.prefiltered[static_cast<size_t>(f)].data(),
+                          s.noisy[static_cast<size_t>(f)].data());
+        for (int64_t f = 0; f < frames; ++f) {
+            std::vector<float> z = s.noisy[static_cast<size_t>(f)];
+            const double share = trust.blend(f, s.prefiltered[static_cast<size_t>(f)].data(), z.data());
+            const double error = mse(z, s.truth[static_cast<size_t>(f)]);
+            if (both) {
+                EXPECT_LT(share, 0.2) << "frame " << f;
+                EXPECT_LT(error, 1.5 * mse(s.prefiltered[static_cast<size_t>(f)], s.truth[static_cast<size_t>(f)])) << "frame " << f;
+            } else {
+                EXPECT_GT(share, 0.8) << "frame " << f;
+                EXPECT_GT(error, 0.5 * mse(s.noisy[static_cast<size_t>(f)], s.truth[static_cast<size_t>(f)])) << "frame " << f;
+            }
+        }
+    }
+}
+
 // The share depends on the data, not its units; zero in gives zero out.
 TEST(TimeTrust, ScaleEquivariantAndZeroSafe) {
     std::vector<std::vector<float>> reference;
