@@ -194,17 +194,18 @@ void Filter::execute(const FrameSource& source, FrameSink& sink, const RunOption
                 Results ignored;  // the run's results are the first run's
                 stage->run(*probed, [&](int64_t f, float* pixels) {
                     prefilter->apply(f, pixels, s, source.attributes());
-                    if (!gain.empty())
-                        for (size_t i = 0; i < samples; ++i) pixels[i] *= gain[i % static_cast<size_t>(s.channels)];
+                    if (!gain.empty()) scale_channels(pixels, one, gain);
                     std::vector<float> noisy(samples), prefiltered(samples), z(samples);
                     source.read_rows(f, 0, s.height, noisy.data());
                     scratch->read_rows(f, 0, s.height, prefiltered.data());
                     temporal->read_rows(f, 0, s.height, z.data());
                     trust->probe_temporal(f, noisy.data(), prefiltered.data(), z.data(), pixels);
+                    // the fit's sums too, from the frames already read (its correction is complete)
+                    trust->measure(f, noisy.data(), prefiltered.data(), z.data());
                 }, again, ignored);
             }
             // The fit is measured on the frames as they will be blended (scaled), as in memory.
-            if (trust)
+            if (trust && !probe_temporal)
                 parallel_for(s.frames, threads, [&](int64_t f) {
                     std::vector<float> noisy(samples), prefiltered(samples), pixels(samples);
                     source.read_rows(f, 0, s.height, noisy.data());

@@ -50,6 +50,11 @@ void scale_channels(Sequence& frames, const std::vector<float>& gain, int thread
     }, ProgressSpan{none, 0, 1, "light"});
 }
 
+void scale_channels(float* frame, const Shape& shape, const std::vector<float>& gain) {
+    for (int64_t p = 0; p < shape.pixels(); ++p)
+        for (int64_t c = 0; c < shape.channels; ++c) frame[p * shape.channels + c] *= gain[static_cast<size_t>(c)];
+}
+
 std::vector<double> channel_sums(const float* frame, const Shape& shape) {
     std::vector<double> sums(static_cast<size_t>(shape.channels), 0.0);
     for (int64_t p = 0; p < shape.pixels(); ++p)

@@ -35,6 +35,8 @@ std::vector<double> channel_sums(const float* frame, const Shape& shape);
 void keep_prefilter_light(const Sequence& noisy, Sequence& prefiltered, int threads);
 // Channel c of every frame times gain[c], in place.
 void scale_channels(Sequence& frames, const std::vector<float>& gain, int threads);
+// The same on one contiguous frame of `shape` (one frame).
+void scale_channels(float* frame, const Shape& shape, const std::vector<float>& gain);
 
 double blend_toward_prefilter(TimeTrust& trust, const Sequence& noisy, const Sequence& prefiltered,
                               Sequence& result, int threads);

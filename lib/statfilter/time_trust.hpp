@@ -50,8 +50,8 @@ public:
     void probe(int64_t f, const float* x, const float* y, const std::function<void(float*)>& prefilter);
     // With a temporal result that is itself made from x (the prefilter run last: z = P(T(x))), S must
     // count z's dependence on x too, S = sum sigma^2 (dy/dx - dz/dx): without it the fit leans towards
-    // time (on a scene it was not tuned on, 1.45x OIDN's relMSE at 4 spp against 1.19x with it;
-    // docs/methods.md). dz/dx comes from a second run of T and P on the probe's frames:
+    // time (on a scene it was not tuned on, --quality high at 4 spp: 1.44x OIDN's relMSE, 1.10x with
+    // it; docs/methods.md). dz/dx comes from a second run of T and P on the probe's frames:
     // rows y0..y1 of frame f of the probe, x + eps b as probe() made it, written over x's rows.
     void perturb_rows(int64_t f, int64_t y0, int64_t y1, float* rows) const;
     // Frame f's z and z_probed = P(T(probe)) (the same light gain): sigma^2 dz/dx taken from its Stein
