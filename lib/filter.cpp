@@ -91,7 +91,7 @@ void Filter::execute(const Sequence& input, Sequence& output, const Progress& pr
             filter_frames(pool, *target, *noisy, resolve_threads(0), {progress, 1 - post_span, post_span, "prefilter"},
                           keeps_prefilter_light(stages));
         pool.add_results(results_);
-        if (trust && time_trust_options(stages).temporal_probe) {
+        if (trust && prepare_temporal_probe(*trust, time_trust_options(stages), results_)) {
             // z = P(T(x)) depends on the noisy frame too: T and P once more on the probe's frames,
             // scaled as z was, give the fit the rest of its Stein correction (as the streamed run).
             Sequence probed(input.shape());

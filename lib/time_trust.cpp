@@ -129,9 +129,17 @@ void TimeTrust::probe_temporal(int64_t f, const float* x, const float* y, const 
     each_sample_by_tile(shape_, options_.tile, tiles_x_, [&](size_t t, int64_t i) {
         const double s = static_cast<double>(probe_sample(x[i], eps[t], f, i)) - x[i];
         if (s == 0 || !(std::fabs(static_cast<double>(x[i]) - y[i]) <= limit[t])) return;  // as probe()'s samples
+        const double reach = reach_.empty() ? 1.0 : reach_[static_cast<size_t>(i / shape_.channels)];
+        if (reach == 0) return;
         const double d = sigma2[t] * (static_cast<double>(z_probed[i]) - z[i]) / s;
-        if (std::isfinite(d)) stein[t] -= d;
+        if (std::isfinite(d)) stein[t] -= reach * d;
     });
+}
+
+void TimeTrust::set_temporal_reach(std::vector<float> weight) {
+    if (!weight.empty() && static_cast<int64_t>(weight.size()) != shape_.pixels())
+        throw Error(Status::Internal, "time trust: the temporal reach is not one value per pixel of a frame");
+    reach_ = std::move(weight);
 }
 
 void TimeTrust::measure(int64_t f, const float* x, const float* y, const float* z) {

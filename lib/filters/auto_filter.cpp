@@ -311,12 +311,13 @@ private:
 
     static void add_hybrid_results(const Results& own, bool still, Results& results) {
         for (const auto& name : own.names()) {
-            if (name == "alpha") continue;
+            if (name == "alpha" || name == kMotionPathResult) continue;
             // The still scene's global PCA reports its rank as pca's.
             if (still && name == "temporal_rank") results.copy(own, name, "pca.rank");
             else if (!still) results.copy(own, name, "hybrid." + name);
         }
         if (own.has("alpha")) results.copy(own, "alpha", "alpha");
+        if (own.has(kMotionPathResult)) results.copy(own, kMotionPathResult, kMotionPathResult);
         if (own.has("bands")) results.copy(own, "bands", "bands");
     }
 

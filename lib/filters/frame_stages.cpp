@@ -31,14 +31,18 @@ std::vector<ParamSpec> prefilter_params() {
                                    "first: the temporal filter works on the prefilter's frames; last: it works on the noisy "
                                    "frames and the prefilter runs on its result in place of the postfilter (the prefilter's "
                                    "frames of the noisy shot are then only what the trust blend falls back to)");
-    // prefilter stays the default: both lowers relMSE where time misleads (a camera dolly over textured
-    // walls: 1.44x -> 1.10x OIDN's at 4 spp) but doubles the still-scene flicker (docs/quality_targets.md).
-    ParamSpec stein = choice_param("prefilter_trust_stein", "prefilter", {"prefilter", "both"},
+    // moving is the default: both lowers relMSE where time misleads (a camera dolly over textured
+    // walls: 1.44x -> 1.10x OIDN's at 4 spp) but doubled the still-scene flicker, from its estimate of
+    // a dependence the whole shot's model barely has; moving counts it only where the stage aligned
+    // frames (docs/methods.md, "The temporal result's own dependence on the noisy frame").
+    ParamSpec stein = choice_param("prefilter_trust_stein", "moving", {"prefilter", "moving", "both"},
                                    "with prefilter_order=last, what the trust blend's fit corrects for having been measured "
                                    "against the noisy frame both results were made from: prefilter (the prefilter's frame "
-                                   "only: leans towards time, steadiest) or both (the temporal result's too: unbiased, lower "
-                                   "error where time misleads, more flicker where it does not; runs the temporal filter and "
-                                   "the prefilter once more on the probe's frames)");
+                                   "only: leans towards time, steadiest), both (the temporal result's too, everywhere: "
+                                   "unbiased, more flicker where the scene is still) or moving (the temporal result's too "
+                                   "where the temporal filter aligned frames along the motion, the prefilter's elsewhere). "
+                                   "both and moving run the temporal filter and the prefilter once more on the probe's "
+                                   "frames; moving only when something moves");
     return {name, list, trust, order, tile, pool, probe, stein};
 }
 
@@ -47,8 +51,9 @@ TimeTrustOptions time_trust_options(const ParamSet& params) {
     o.tile = params.get_int("prefilter_trust_tile");
     o.pool = params.get_int("prefilter_trust_pool");
     o.probe = params.get_float("prefilter_trust_probe");
-    o.temporal_probe = params.has("prefilter_trust_stein") && params.get_string("prefilter_trust_stein") == "both" &&
-                       prefilter_runs_last(params);
+    const std::string stein = params.has("prefilter_trust_stein") ? params.get_string("prefilter_trust_stein") : "prefilter";
+    o.temporal_probe = stein != "prefilter" && prefilter_runs_last(params);
+    o.probe_where_moving = o.temporal_probe && stein == "moving";
     if (params.has("firefly_z")) o.outlier_z = params.get_float("firefly_z");
     return o;
 }

@@ -492,6 +492,9 @@ HybridAnalysis HybridStage::analyse_passes(const FrameSource& source, const Stag
     if (options_.mc_dilate > 0)
         cv::dilate(grown, grown, cv::Mat::ones(2 * options_.mc_dilate + 1, 2 * options_.mc_dilate + 1, CV_8U));
     analysis.grown.assign(grown.ptr<float>(), grown.ptr<float>() + P);
+    auto motion_path = std::make_shared<Sequence>(Shape{1, H, W, 1});
+    std::copy(analysis.grown.begin(), analysis.grown.end(), &motion_path->at(0, 0, 0, 0));
+    results.set_image(kMotionPathResult, motion_path);
     // The own first pass' inputs: the crossings, and the change test for its test of I_T (maps_bytes).
     analysis.crossings = std::move(own_weight);
     if (test_change) analysis.change = std::move(change_test);

@@ -22,6 +22,11 @@ struct GuideSources {
     const FrameSource* vectors = nullptr;  // Cycles' Vector pass: X, Y, Z, W in its first four channels
 };
 
+// The image result (1 x H x W x 1, 0..1) in which a stage says where it followed the motion (the
+// hybrid's aligned region) rather than modelling the whole shot: the trust blend's temporal probe
+// counts there (TimeTrust::set_temporal_reach). A stage that models the whole shot sets none.
+inline constexpr const char* kMotionPathResult = "motion_path";
+
 // Threads, the memory the stage may hold, progress and the renderer's passes, for one run.
 struct StageContext {
     int threads = 1;

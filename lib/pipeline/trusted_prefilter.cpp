@@ -1,5 +1,6 @@
 #include "pipeline/trusted_prefilter.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <vector>
 
@@ -156,6 +157,25 @@ void probe_temporal_result(TimeTrust& trust, const Sequence& noisy, const Sequen
         probed_result.get_frame(f, zp.data());
         trust.probe_temporal(f, x.data(), y.data(), z.data(), zp.data());
     }, ProgressSpan{none, 0, 1, "blend"});
+}
+
+bool prepare_temporal_probe(TimeTrust& trust, const TimeTrustOptions& options, const Results& results) {
+    if (!options.temporal_probe) return false;
+    if (!options.probe_where_moving) return true;
+    if (!results.has(kMotionPathResult)) return false;
+    const auto path = results.image(kMotionPathResult);
+    const Shape& s = path->shape();
+    std::vector<float> reach(static_cast<size_t>(s.pixels()));
+    bool any = false;
+    for (int64_t y = 0; y < s.height; ++y)
+        for (int64_t x = 0; x < s.width; ++x) {
+            const float w = std::clamp(path->at(0, y, x, 0), 0.0f, 1.0f);
+            reach[static_cast<size_t>(y * s.width + x)] = w;
+            any = any || w > 0;
+        }
+    if (!any) return false;
+    trust.set_temporal_reach(std::move(reach));
+    return true;
 }
 
 }  // namespace statfilter

@@ -6,6 +6,7 @@
 
 #include "pipeline/frame_source.hpp"
 #include "pipeline/frame_stage_pool.hpp"
+#include "pipeline/stage.hpp"
 #include "statfilter/progress.hpp"
 #include "statfilter/sequence.hpp"
 #include "statfilter/time_trust.hpp"
@@ -47,5 +48,11 @@ std::unique_ptr<FrameSource> probed_source(const FrameSource& source, const Time
 // = P(T(probe)), both scaled alike.
 void probe_temporal_result(TimeTrust& trust, const Sequence& noisy, const Sequence& prefiltered, const Sequence& result,
                            const Sequence& probed_result, int threads);
+
+// Whether the temporal result's probe runs after the stage's run, and where it counts: everywhere
+// (prefilter_trust_stein=both), or where the stage's results say it followed the motion
+// (kMotionPathResult; moving), set on trust; false for moving when nothing moved (a still scene, a
+// stage that models the whole shot): the second run would add nothing.
+bool prepare_temporal_probe(TimeTrust& trust, const TimeTrustOptions& options, const Results& results);
 
 }  // namespace statfilter

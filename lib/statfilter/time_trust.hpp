@@ -38,6 +38,8 @@ struct TimeTrustOptions {
     // The prefilter runs last and the temporal result's own dependence on the noisy frame is probed
     // too (perturb_rows, probe_temporal: the pipeline runs them).
     bool temporal_probe = false;
+    // ... only where the temporal stage ran its motion path (set_temporal_reach; none: not probed).
+    bool probe_where_moving = false;
 };
 
 class TimeTrust {
@@ -57,6 +59,13 @@ public:
     // Frame f's z and z_probed = P(T(probe)) (the same light gain): sigma^2 dz/dx taken from its Stein
     // correction, over the samples probe() counted. Before measure(f).
     void probe_temporal(int64_t f, const float* x, const float* y, const float* z, const float* z_probed);
+    // Where z's dependence on x counts (H x W, 0..1; before probe_temporal; never set: everywhere).
+    // A temporal model over the whole shot gives each frame a weight of about its rank over the frame
+    // count, too little to measure, so there the probe's estimate of it is only noise, which reaches
+    // the fit and brings back the prefilter's flicker (the still-scene jitter doubled); an average
+    // along the flow over a few frames gives it a tenth or more. The stage says where it ran which
+    // (lib/filters/hybrid_stage.cpp: the grown moving weight).
+    void set_temporal_reach(std::vector<float> weight);
     // The fit's sums for frame f from its noisy, prefiltered and temporal pixels (any frame order,
     // from several threads at once), once every frame is probed.
     void measure(int64_t f, const float* x, const float* y, const float* z);
@@ -73,6 +82,7 @@ private:
     // [frame][tile]: Stein's correction, noise variance, the fit's numerator and denominator, the
     // largest |x - y| a witness may have, the probe's step eps
     std::vector<std::vector<double>> stein_, sigma2_, num_, den_, limit_, eps_;
+    std::vector<float> reach_;  // set_temporal_reach's (empty: 1 everywhere)
 };
 
 }  // namespace statfilter

@@ -194,11 +194,23 @@ TEST(Streaming, HybridAndBalancedStreamedMatchInMemoryAtManyBands) {
         {moving, "hybrid", {{"mc_half_width", "2"}}},
         {moving, "hybrid", {{"mc_half_width", "2"}, {"temporal", "pca"}}},
         {moving, "auto", {{"quality", "balanced"}}},
+        // A prefilter run last and its trust blend, whose fit counts the temporal result's own
+        // dependence on the noisy frame where the stage aligned frames (prefilter_trust_stein=moving,
+        // the default): the stage's second run on the probe's frames, streamed as in memory.
+        {moving, "hybrid", {{"mc_half_width", "2"}, {"prefilter_params", "iterations=2"}, {"prefilter", "diffusion"}}},
         {still, "auto", {{"quality", "balanced"}}},  // nothing moves: global PCA from the same Gram
     };
     for (const auto& [shot, name, params] : runs) {
         const std::string what = name + (params.empty() ? "" : " " + params.back().first + "=" + params.back().second);
         const std::vector<float> expected = in_memory(shot, name, params);
+        if (params.back().first == "prefilter") {  // the second run happened: not the prefilter-only fit
+            auto lean = params;
+            lean.emplace_back("prefilter_trust_stein", "prefilter");
+            const std::vector<float> without = in_memory(shot, name, lean);
+            double apart = 0;
+            for (size_t i = 0; i < expected.size(); ++i) apart = std::max(apart, std::fabs(double(without[i]) - expected[i]));
+            EXPECT_GT(apart, 1e-4) << what << ": the temporal probe changed nothing";
+        }
         const RunResult probe = run_files(name, params, shot.in, shot.dir.file("probe.####.exr"));
         ASSERT_EQ(probe.status, SF_OK) << what << ": " << probe.message;
         EXPECT_EQ(probe.streamed, 1.0) << what;

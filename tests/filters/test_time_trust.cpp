@@ -175,6 +175,53 @@ TEST(TimeTrust, ATemporalResultMadeFromTheNoisyFrameCountsItsOwnDependence) {
     }
 }
 
+// The temporal result's dependence counts only where the stage says it followed the motion
+// (set_temporal_reach): with the same "temporal result" as above (the noisy frame itself), the left
+// 16 columns, reach 1, fall back to the prefiltered frame as with the full term; the right 32, reach
+// 0, keep the noise as without it. Tile borders at 16 pixels, so each tile is wholly one or the other.
+TEST(TimeTrust, TheTemporalResultsDependenceCountsWhereTheStageFollowedTheMotion) {
+    const Frames s = make_frames(6, 0.3);
+    const auto frames = static_cast<int64_t>(s.noisy.size());
+    TimeTrust trust(Shape{frames, kH, kW, kC});
+    std::vector<float> reach(static_cast<size_t>(kH * kW), 0.0f);
+    for (int64_t y = 0; y < kH; ++y)
+        for (int64_t x = 0; x < 16; ++x) reach[static_cast<size_t>(y * kW + x)] = 1.0f;
+    trust.set_temporal_reach(reach);
+    EXPECT_THROW(trust.set_temporal_reach(std::vector<float>(7, 1.0f)), Error);
+    for (int64_t f = 0; f < frames; ++f)
+        trust.probe(f, s.noisy[static_cast<size_t>(f)].data(), s.prefiltered[static_cast<size_t>(f)].data(), box_blur);
+    for (int64_t f = 0; f < frames; ++f) {
+        std::vector<float> probed = s.noisy[static_cast<size_t>(f)];
+        trust.perturb_rows(f, 0, kH, probed.data());
+        trust.probe_temporal(f, s.noisy[static_cast<size_t>(f)].data(), s.prefiltered[static_cast<size_t>(f)].data(),
+                             s.noisy[static_cast<size_t>(f)].data(), probed.data());
+    }
+    for (int64_t f = 0; f < frames; ++f)
+        trust.measure(f, s.noisy[static_cast<size_t>(f)].data(), s.prefiltered[static_cast<size_t>(f)].data(),
+                      s.noisy[static_cast<size_t>(f)].data());
+    // The mean squared distance of columns [x0, x1) of a frame from another's.
+    const auto part = [](const std::vector<float>& a, const std::vector<float>& b, int64_t x0, int64_t x1) {
+        double sum = 0;
+        for (int64_t y = 0; y < kH; ++y)
+            for (int64_t x = x0; x < x1; ++x)
+                for (int64_t c = 0; c < kC; ++c) {
+                    const auto i = static_cast<size_t>((y * kW + x) * kC + c);
+                    sum += (static_cast<double>(a[i]) - b[i]) * (static_cast<double>(a[i]) - b[i]);
+                }
+        return sum / static_cast<double>(kH * (x1 - x0) * kC);
+    };
+    for (int64_t f = 0; f < frames; ++f) {
+        const auto& noisy = s.noisy[static_cast<size_t>(f)];
+        const auto& prefiltered = s.prefiltered[static_cast<size_t>(f)];
+        std::vector<float> z = noisy;
+        trust.blend(f, prefiltered.data(), z.data());
+        // Left (reach 1): nearer the prefiltered frame than the noisy one; right (reach 0): the reverse.
+        // The blend interpolates w between tile centres, so the columns next to the border are left out.
+        EXPECT_LT(part(z, prefiltered, 0, 8), 0.25 * part(z, noisy, 0, 8)) << "frame " << f;
+        EXPECT_LT(part(z, noisy, 32, kW), 0.25 * part(z, prefiltered, 32, kW)) << "frame " << f;
+    }
+}
+
 // The share depends on the data, not its units; zero in gives zero out.
 TEST(TimeTrust, ScaleEquivariantAndZeroSafe) {
     std::vector<std::vector<float>> reference;
