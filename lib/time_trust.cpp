@@ -127,10 +127,10 @@ void TimeTrust::probe_temporal(int64_t f, const float* x, const float* y, const 
     const std::vector<double>& sigma2 = sigma2_[static_cast<size_t>(f)];
     const std::vector<double>& limit = limit_[static_cast<size_t>(f)];
     each_sample_by_tile(shape_, options_.tile, tiles_x_, [&](size_t t, int64_t i) {
-        const double s = static_cast<double>(probe_sample(x[i], eps[t], f, i)) - x[i];
-        if (s == 0 || !(std::fabs(static_cast<double>(x[i]) - y[i]) <= limit[t])) return;  // as probe()'s samples
         const double reach = reach_.empty() ? 1.0 : reach_[static_cast<size_t>(i / shape_.channels)];
         if (reach == 0) return;
+        const double s = static_cast<double>(probe_sample(x[i], eps[t], f, i)) - x[i];
+        if (s == 0 || !(std::fabs(static_cast<double>(x[i]) - y[i]) <= limit[t])) return;  // as probe()'s samples
         const double d = sigma2[t] * (static_cast<double>(z_probed[i]) - z[i]) / s;
         if (std::isfinite(d)) stein[t] -= reach * d;
     });

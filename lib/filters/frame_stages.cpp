@@ -52,8 +52,9 @@ TimeTrustOptions time_trust_options(const ParamSet& params) {
     o.pool = params.get_int("prefilter_trust_pool");
     o.probe = params.get_float("prefilter_trust_probe");
     const std::string stein = params.has("prefilter_trust_stein") ? params.get_string("prefilter_trust_stein") : "prefilter";
-    o.temporal_probe = stein != "prefilter" && prefilter_runs_last(params);
-    o.probe_where_moving = o.temporal_probe && stein == "moving";
+    if (stein != "prefilter" && prefilter_runs_last(params))
+        o.temporal_probe = stein == "moving" ? TimeTrustOptions::TemporalProbe::WhereMoving
+                                             : TimeTrustOptions::TemporalProbe::Everywhere;
     if (params.has("firefly_z")) o.outlier_z = params.get_float("firefly_z");
     return o;
 }

@@ -153,7 +153,8 @@ void Filter::execute(const FrameSource& source, FrameSink& sink, const RunOption
         if (trust || last_light) temporal = std::make_unique<ScratchFrames>(s, source.attributes());
         // With the temporal result's probe the stage runs twice: each run half of what is left before
         // the blend (the second only when the first says it is needed: prepare_temporal_probe).
-        const bool may_probe = trust && time_trust_options(stages).temporal_probe;
+        const TimeTrustOptions trust_options = trust ? time_trust_options(stages) : TimeTrustOptions{};
+        const bool may_probe = trust_options.temporal_probe != TimeTrustOptions::TemporalProbe::None;
         const double stage_end = may_probe ? start + 0.5 * (0.95 - start) : 1.0;
         const Progress stage_progress([&](double fraction, const char* name) {
             progress.report(start + (stage_end - start) * fraction, name);
@@ -178,7 +179,7 @@ void Filter::execute(const FrameSource& source, FrameSink& sink, const RunOption
             if (post) postfilter->apply(f, pixels, s, source.attributes());
             sink.write_frame(f, pixels);
         }, context, results_);
-        const bool probe_temporal = may_probe && prepare_temporal_probe(*trust, time_trust_options(stages), results_);
+        const bool probe_temporal = may_probe && prepare_temporal_probe(*trust, trust_options, results_);
         if (temporal) {
             std::vector<float> gain;
             if (last_light) temporal->set_gain(gain = light_gain(before_last, after_last));

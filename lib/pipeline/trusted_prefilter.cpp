@@ -160,8 +160,8 @@ void probe_temporal_result(TimeTrust& trust, const Sequence& noisy, const Sequen
 }
 
 bool prepare_temporal_probe(TimeTrust& trust, const TimeTrustOptions& options, const Results& results) {
-    if (!options.temporal_probe) return false;
-    if (!options.probe_where_moving) return true;
+    if (options.temporal_probe == TimeTrustOptions::TemporalProbe::None) return false;
+    if (options.temporal_probe == TimeTrustOptions::TemporalProbe::Everywhere) return true;
     if (!results.has(kMotionPathResult)) return false;
     const auto path = results.image(kMotionPathResult);
     const Shape& s = path->shape();

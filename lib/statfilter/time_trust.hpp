@@ -35,11 +35,11 @@ struct TimeTrustOptions {
     // deviation: a render's noise is heavy-tailed, and cut at 8 median deviations its tail went too
     // (relMSE of --quality high 7% higher at 4 spp).
     double outlier_z = 8;
-    // The prefilter runs last and the temporal result's own dependence on the noisy frame is probed
-    // too (perturb_rows, probe_temporal: the pipeline runs them).
-    bool temporal_probe = false;
-    // ... only where the temporal stage ran its motion path (set_temporal_reach; none: not probed).
-    bool probe_where_moving = false;
+    // With the prefilter run last, where the temporal result's own dependence on the noisy frame is
+    // probed too (perturb_rows, probe_temporal: the pipeline runs them): nowhere, only where the
+    // temporal stage followed the motion (set_temporal_reach; not probed when it did not), everywhere.
+    enum class TemporalProbe { None, WhereMoving, Everywhere };
+    TemporalProbe temporal_probe = TemporalProbe::None;
 };
 
 class TimeTrust {

@@ -139,6 +139,29 @@ TEST(TimeTrust, SteinsCorrectionLetsATrueTemporalResultThrough) {
     for (double share : blend_all(s, z)) EXPECT_GT(share, 0.85);
 }
 
+namespace {
+
+// Every frame probed (the prefilter: box_blur) and measured with the noisy frame itself as the
+// "temporal result" (a temporal filter that removed nothing); with `temporal`, that result's own
+// dependence probed too: the temporal result of the probe's frame is that frame.
+void probe_and_measure_itself(TimeTrust& trust, const Frames& s, bool temporal) {
+    const auto frames = static_cast<int64_t>(s.noisy.size());
+    for (int64_t f = 0; f < frames; ++f)
+        trust.probe(f, s.noisy[static_cast<size_t>(f)].data(), s.prefiltered[static_cast<size_t>(f)].data(), box_blur);
+    if (temporal)
+        for (int64_t f = 0; f < frames; ++f) {
+            std::vector<float> probed = s.noisy[static_cast<size_t>(f)];
+            trust.perturb_rows(f, 0, kH, probed.data());
+            trust.probe_temporal(f, s.noisy[static_cast<size_t>(f)].data(), s.prefiltered[static_cast<size_t>(f)].data(),
+                                 s.noisy[static_cast<size_t>(f)].data(), probed.data());
+        }
+    for (int64_t f = 0; f < frames; ++f)
+        trust.measure(f, s.noisy[static_cast<size_t>(f)].data(), s.prefiltered[static_cast<size_t>(f)].data(),
+                      s.noisy[static_cast<size_t>(f)].data());
+}
+
+}  // namespace
+
 // A temporal result made from the noisy frame itself (here: the noisy frame, a temporal filter that
 // removed nothing) depends on it as the prefilter does. Counting only the prefilter's dependence, the
 // fit takes it for support and keeps the noise; counting both (probe_temporal, with the temporal
@@ -148,18 +171,7 @@ TEST(TimeTrust, ATemporalResultMadeFromTheNoisyFrameCountsItsOwnDependence) {
     const auto frames = static_cast<int64_t>(s.noisy.size());
     for (const bool both : {false, true}) {
         TimeTrust trust(Shape{frames, kH, kW, kC});
-        for (int64_t f = 0; f < frames; ++f)
-            trust.probe(f, s.noisy[static_cast<size_t>(f)].data(), s.prefiltered[static_cast<size_t>(f)].data(), box_blur);
-        if (both)
-            for (int64_t f = 0; f < frames; ++f) {
-                std::vector<float> probed = s.noisy[static_cast<size_t>(f)];
-                trust.perturb_rows(f, 0, kH, probed.data());  // the temporal result of the probe: itself
-                trust.probe_temporal(f, s.noisy[static_cast<size_t>(f)].data(), s.prefiltered[static_cast<size_t>(f)].data(),
-                                     s.noisy[static_cast<size_t>(f)].data(), probed.data());
-            }
-        for (int64_t f = 0; f < frames; ++f)
-            trust.measure(f, s.noisy[static_cast<size_t>(f)].data(), s.prefiltered[static_cast<size_t>(f)].data(),
-                          s.noisy[static_cast<size_t>(f)].data());
+        probe_and_measure_itself(trust, s, both);
         for (int64_t f = 0; f < frames; ++f) {
             std::vector<float> z = s.noisy[static_cast<size_t>(f)];
             const double share = trust.blend(f, s.prefiltered[static_cast<size_t>(f)].data(), z.data());
@@ -188,17 +200,7 @@ TEST(TimeTrust, TheTemporalResultsDependenceCountsWhereTheStageFollowedTheMotion
         for (int64_t x = 0; x < 16; ++x) reach[static_cast<size_t>(y * kW + x)] = 1.0f;
     trust.set_temporal_reach(reach);
     EXPECT_THROW(trust.set_temporal_reach(std::vector<float>(7, 1.0f)), Error);
-    for (int64_t f = 0; f < frames; ++f)
-        trust.probe(f, s.noisy[static_cast<size_t>(f)].data(), s.prefiltered[static_cast<size_t>(f)].data(), box_blur);
-    for (int64_t f = 0; f < frames; ++f) {
-        std::vector<float> probed = s.noisy[static_cast<size_t>(f)];
-        trust.perturb_rows(f, 0, kH, probed.data());
-        trust.probe_temporal(f, s.noisy[static_cast<size_t>(f)].data(), s.prefiltered[static_cast<size_t>(f)].data(),
-                             s.noisy[static_cast<size_t>(f)].data(), probed.data());
-    }
-    for (int64_t f = 0; f < frames; ++f)
-        trust.measure(f, s.noisy[static_cast<size_t>(f)].data(), s.prefiltered[static_cast<size_t>(f)].data(),
-                      s.noisy[static_cast<size_t>(f)].data());
+    probe_and_measure_itself(trust, s, true);
     // The mean squared distance of columns [x0, x1) of a frame from another's.
     const auto part = [](const std::vector<float>& a, const std::vector<float>& b, int64_t x0, int64_t x1) {
         double sum = 0;
