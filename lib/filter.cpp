@@ -85,13 +85,14 @@ void Filter::execute(const Sequence& input, Sequence& output, const Progress& pr
         target = filtered.get();
     }
     run(*source, *target, slice(progress, pre_span, 1 - pre_span - post_span));
+    const bool probe_temporal = trust && prepare_temporal_probe(*trust, time_trust_options(stages), results_);
     if (last) {  // the prefilter on the temporal result, scaled back to its light (the noisy shot's)
         FrameStagePool pool("prefilter", stages);
         const std::vector<float> gain =
             filter_frames(pool, *target, *noisy, resolve_threads(0), {progress, 1 - post_span, post_span, "prefilter"},
                           keeps_prefilter_light(stages));
         pool.add_results(results_);
-        if (trust && prepare_temporal_probe(*trust, time_trust_options(stages), results_)) {
+        if (probe_temporal) {
             // z = P(T(x)) depends on the noisy frame too: T and P once more on the probe's frames,
             // scaled as z was, give the fit the rest of its Stein correction (as the streamed run).
             Sequence probed(input.shape());

@@ -127,7 +127,8 @@ void TimeTrust::probe_temporal(int64_t f, const float* x, const float* y, const 
     const std::vector<double>& sigma2 = sigma2_[static_cast<size_t>(f)];
     const std::vector<double>& limit = limit_[static_cast<size_t>(f)];
     each_sample_by_tile(shape_, options_.tile, tiles_x_, [&](size_t t, int64_t i) {
-        const double reach = reach_.empty() ? 1.0 : reach_[static_cast<size_t>(i / shape_.channels)];
+        const bool where_moving = options_.temporal_probe == TimeTrustOptions::TemporalProbe::WhereMoving;
+        const double reach = where_moving && !path_.empty() ? path_[static_cast<size_t>(i / shape_.channels)] : 1.0;
         if (reach == 0) return;
         const double s = static_cast<double>(probe_sample(x[i], eps[t], f, i)) - x[i];
         if (s == 0 || !(std::fabs(static_cast<double>(x[i]) - y[i]) <= limit[t])) return;  // as probe()'s samples
@@ -136,10 +137,16 @@ void TimeTrust::probe_temporal(int64_t f, const float* x, const float* y, const 
     });
 }
 
-void TimeTrust::set_temporal_reach(std::vector<float> weight) {
+void TimeTrust::set_motion_path(std::vector<float> weight) {
     if (!weight.empty() && static_cast<int64_t>(weight.size()) != shape_.pixels())
-        throw Error(Status::Internal, "time trust: the temporal reach is not one value per pixel of a frame");
-    reach_ = std::move(weight);
+        throw Error(Status::Internal, "time trust: the motion path is not one value per pixel of a frame");
+    path_ = std::move(weight);
+    off_path_.assign(path_.empty() ? 0 : static_cast<size_t>(tiles_x_ * tiles_y_), 1);
+    for (size_t p = 0; p < path_.size(); ++p)
+        if (path_[p] > 0) {
+            const int64_t py = static_cast<int64_t>(p) / shape_.width, px = static_cast<int64_t>(p) % shape_.width;
+            off_path_[static_cast<size_t>((py / options_.tile) * tiles_x_ + px / options_.tile)] = 0;
+        }
 }
 
 void TimeTrust::measure(int64_t f, const float* x, const float* y, const float* z) {
@@ -161,25 +168,24 @@ void TimeTrust::measure(int64_t f, const float* x, const float* y, const float* 
 double TimeTrust::blend(int64_t f, const float* y, float* z) const {
     const int64_t W = shape_.width, H = shape_.height, C = shape_.channels;
     const size_t tiles = static_cast<size_t>(tiles_x_ * tiles_y_);
-    std::vector<double> num(tiles, 0.0), den(tiles, 0.0), sigma2(tiles, 0.0);
-    for (int64_t g = std::max<int64_t>(0, f - options_.pool); g <= std::min(shape_.frames - 1, f + options_.pool); ++g) {
-        if (num_[static_cast<size_t>(g)].size() != tiles)
-            throw Error(Status::Internal, "time trust: frame " + std::to_string(g) + " was not measured");
-        for (size_t t = 0; t < tiles; ++t) {
-            num[t] += num_[static_cast<size_t>(g)][t];
-            den[t] += den_[static_cast<size_t>(g)][t];
-            sigma2[t] += sigma2_[static_cast<size_t>(g)][t];
-        }
-    }
     std::vector<double> share(tiles);
     double mean = 0;
     for (size_t t = 0; t < tiles; ++t) {
+        const int64_t pool = !off_path_.empty() && off_path_[t] ? options_.still_pool : options_.pool;
+        double num = 0, den = 0, sigma2 = 0, frames = 0;
+        for (int64_t g = std::max<int64_t>(0, f - pool); g <= std::min(shape_.frames - 1, f + pool); ++g) {
+            if (num_[static_cast<size_t>(g)].size() != tiles)
+                throw Error(Status::Internal, "time trust: frame " + std::to_string(g) + " was not measured");
+            num += num_[static_cast<size_t>(g)][t];
+            den += den_[static_cast<size_t>(g)][t];
+            sigma2 += sigma2_[static_cast<size_t>(g)][t];
+            frames += 1;
+        }
         // The fit, num / den, weighed against the prior w = 1 by its evidence den / sigma^2 (sigma^2
         // summed over the pooled frames as den is).
-        const double frames = static_cast<double>(std::min(shape_.frames - 1, f + options_.pool) - std::max<int64_t>(0, f - options_.pool) + 1);
-        const double noise = sigma2[t] / frames;
-        const double evidence = noise > 0 ? den[t] / noise : 0.0;
-        const double fit = den[t] > 0 ? std::clamp(num[t] / den[t], 0.0, 1.0) : 1.0;
+        const double noise = sigma2 / frames;
+        const double evidence = noise > 0 ? den / noise : 0.0;
+        const double fit = den > 0 ? std::clamp(num / den, 0.0, 1.0) : 1.0;
         const double w = (evidence * fit + 1.0) / (evidence + 1.0);
         share[t] = std::isfinite(w) ? std::clamp(w, 0.0, 1.0) : 1.0;
         mean += share[t];

@@ -506,7 +506,7 @@ protected:
         }
         auto chosen = create_filter(choice.method);
         for (const char* name : {"transform", "nonfinite", "shared_basis", "memory_mb", "prefilter_trust", "prefilter_order",
-                                 "prefilter_trust_tile", "prefilter_trust_pool", "prefilter_trust_probe", "prefilter_trust_stein",
+                                 "prefilter_trust_tile", "prefilter_trust_pool", "prefilter_trust_pool_still", "prefilter_trust_probe", "prefilter_trust_stein",
                                  "keep_mean"})
             chosen->params().set_string(name, resolved.get_string(name));
         if (choice.method == "hybrid")

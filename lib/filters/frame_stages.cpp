@@ -25,6 +25,9 @@ std::vector<ParamSpec> prefilter_params() {
                                "the trust blend's tile side in pixels: one share of the temporal change per tile");
     ParamSpec pool = int_param("prefilter_trust_pool", "2", 0, 16,
                                "the trust blend's fit is pooled over frames t - this .. t + this");
+    ParamSpec still_pool = int_param("prefilter_trust_pool_still", "8", 0, 64,
+                                     "where the temporal filter followed no motion in a tile (it modelled it with the "
+                                     "whole shot), the trust blend's fit is pooled over frames t - this .. t + this");
     ParamSpec probe = float_param("prefilter_trust_probe", "0.05", 0.001, 1,
                                   "the step of the trust blend's second prefilter run, in units of the tile's noise");
     ParamSpec order = choice_param("prefilter_order", "first", {"first", "last"},
@@ -43,13 +46,14 @@ std::vector<ParamSpec> prefilter_params() {
                                    "where the temporal filter aligned frames along the motion, the prefilter's elsewhere). "
                                    "both and moving run the temporal filter and the prefilter once more on the probe's "
                                    "frames; moving only when something moves");
-    return {name, list, trust, order, tile, pool, probe, stein};
+    return {name, list, trust, order, tile, pool, still_pool, probe, stein};
 }
 
 TimeTrustOptions time_trust_options(const ParamSet& params) {
     TimeTrustOptions o;
     o.tile = params.get_int("prefilter_trust_tile");
     o.pool = params.get_int("prefilter_trust_pool");
+    o.still_pool = params.get_int("prefilter_trust_pool_still");
     o.probe = params.get_float("prefilter_trust_probe");
     const std::string stein = params.has("prefilter_trust_stein") ? params.get_string("prefilter_trust_stein") : "prefilter";
     if (stein != "prefilter" && prefilter_runs_last(params))

@@ -478,6 +478,7 @@ HybridAnalysis HybridStage::analyse_passes(const FrameSource& source, const Stag
             analysis.temporal = frames;
         }
         results.set("beta_source", "none (still scene)");
+        results.set_image(kMotionPathResult, std::make_shared<Sequence>(Shape{1, H, W, 1}));  // followed no motion
         results.set("moving_basis_fraction", 0.0);
         results.set("diffusion_fraction", 0.0);
         results.copy(own, "rank", "temporal_rank");

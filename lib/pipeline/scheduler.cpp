@@ -179,7 +179,7 @@ void Filter::execute(const FrameSource& source, FrameSink& sink, const RunOption
             if (post) postfilter->apply(f, pixels, s, source.attributes());
             sink.write_frame(f, pixels);
         }, context, results_);
-        const bool probe_temporal = may_probe && prepare_temporal_probe(*trust, trust_options, results_);
+        const bool probe_temporal = trust && prepare_temporal_probe(*trust, trust_options, results_);
         if (temporal) {
             std::vector<float> gain;
             if (last_light) temporal->set_gain(gain = light_gain(before_last, after_last));

@@ -24,7 +24,8 @@ struct GuideSources {
 
 // The image result (1 x H x W x 1, 0..1) in which a stage says where it followed the motion (the
 // hybrid's aligned region) rather than modelling the whole shot: the trust blend's temporal probe
-// counts there (TimeTrust::set_temporal_reach). A stage that models the whole shot sets none.
+// counts there, and its fit pools over more frames where it is zero (TimeTrust::set_motion_path). A
+// stage that knows it modelled the whole shot sets it all zero; one that does not say sets none.
 inline constexpr const char* kMotionPathResult = "motion_path";
 
 // Threads, the memory the stage may hold, progress and the renderer's passes, for one run.

@@ -160,22 +160,25 @@ void probe_temporal_result(TimeTrust& trust, const Sequence& noisy, const Sequen
 }
 
 bool prepare_temporal_probe(TimeTrust& trust, const TimeTrustOptions& options, const Results& results) {
-    if (options.temporal_probe == TimeTrustOptions::TemporalProbe::None) return false;
-    if (options.temporal_probe == TimeTrustOptions::TemporalProbe::Everywhere) return true;
-    if (!results.has(kMotionPathResult)) return false;
-    const auto path = results.image(kMotionPathResult);
-    const Shape& s = path->shape();
-    std::vector<float> reach(static_cast<size_t>(s.pixels()));
     bool any = false;
-    for (int64_t y = 0; y < s.height; ++y)
-        for (int64_t x = 0; x < s.width; ++x) {
-            const float w = std::clamp(path->at(0, y, x, 0), 0.0f, 1.0f);
-            reach[static_cast<size_t>(y * s.width + x)] = w;
-            any = any || w > 0;
-        }
-    if (!any) return false;
-    trust.set_temporal_reach(std::move(reach));
-    return true;
+    if (results.has(kMotionPathResult)) {
+        const auto path = results.image(kMotionPathResult);
+        const Shape& s = path->shape();
+        std::vector<float> weight(static_cast<size_t>(s.pixels()));
+        for (int64_t y = 0; y < s.height; ++y)
+            for (int64_t x = 0; x < s.width; ++x) {
+                const float w = std::clamp(path->at(0, y, x, 0), 0.0f, 1.0f);
+                weight[static_cast<size_t>(y * s.width + x)] = w;
+                any = any || w > 0;
+            }
+        trust.set_motion_path(std::move(weight));
+    }
+    switch (options.temporal_probe) {
+    case TimeTrustOptions::TemporalProbe::None: return false;
+    case TimeTrustOptions::TemporalProbe::Everywhere: return true;
+    case TimeTrustOptions::TemporalProbe::WhereMoving: return any;
+    }
+    return false;
 }
 
 }  // namespace statfilter

@@ -49,10 +49,11 @@ std::unique_ptr<FrameSource> probed_source(const FrameSource& source, const Time
 void probe_temporal_result(TimeTrust& trust, const Sequence& noisy, const Sequence& prefiltered, const Sequence& result,
                            const Sequence& probed_result, int threads);
 
-// Whether the temporal result's probe runs after the stage's run, and where it counts: everywhere
-// (prefilter_trust_stein=both), or where the stage's results say it followed the motion
-// (kMotionPathResult; moving), set on trust; false for moving when nothing moved (a still scene, a
-// stage that models the whole shot): the second run would add nothing.
+// Hands trust the stage's motion path when its results have one (kMotionPathResult: where the fit
+// pools over still_pool frames, and where the temporal probe counts), and says whether the temporal
+// result's probe runs after the stage's run: everywhere (prefilter_trust_stein=both), where the stage
+// followed the motion (moving), false for moving when nothing moved (a still scene, a stage that
+// models the whole shot: the second run would add nothing) and with no temporal probe.
 bool prepare_temporal_probe(TimeTrust& trust, const TimeTrustOptions& options, const Results& results);
 
 }  // namespace statfilter

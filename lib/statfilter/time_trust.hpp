@@ -7,7 +7,8 @@
 // measured by running the prefilter once more on x perturbed by a small random sign pattern. That fit
 // is noisy where d is small against the noise (still regions, where d is the prefilter's flicker and
 // a share that jumps from frame to frame would bring the flicker back), so the sums are pooled over
-// the frames t-2..t+2 and w is the posterior mean under a unit prior around 1 (trust time):
+// the frames t-2..t+2 (t-8..t+8 where the temporal stage followed no motion: set_motion_path) and w
+// is the posterior mean under a unit prior around 1 (trust time):
 // w = (F w_fit + 1) / (F + 1), F = sum d^2 / sigma^2 the evidence in noise units. The output is
 // y - w d, with w interpolated between tile centres. A firefly of the noisy frame is no witness: a
 // sample whose residual x - y lies beyond `outlier_z` times its tile's RMS residual is left out of the
@@ -28,6 +29,12 @@ struct TimeTrustOptions {
     int64_t tile = 16;
     // Frames t - pool .. t + pool share a tile's fit.
     int64_t pool = 2;
+    // Where the temporal stage said it followed no motion in a tile (set_motion_path: it modelled the
+    // tile's pixels with its model of the whole shot), frames t - still_pool .. t + still_pool share
+    // the tile's fit: there z's relation to y is the same at every frame, and a share fitted on five
+    // frames jumps from frame to frame (the still-scene jitter: cornell_moving 0.108 -> 0.073 of
+    // OIDN's at 4 spp). Chosen leave-one-scene-out (docs/preset_loso.md).
+    int64_t still_pool = 8;
     // The probe's step, in units of the tile's noise.
     double probe = 0.05;
     // A residual x - y beyond this many times the RMS residual of its tile and frame is a firefly's,
@@ -37,7 +44,7 @@ struct TimeTrustOptions {
     double outlier_z = 8;
     // With the prefilter run last, where the temporal result's own dependence on the noisy frame is
     // probed too (perturb_rows, probe_temporal: the pipeline runs them): nowhere, only where the
-    // temporal stage followed the motion (set_temporal_reach; not probed when it did not), everywhere.
+    // temporal stage followed the motion (set_motion_path; not probed when it did not), everywhere.
     enum class TemporalProbe { None, WhereMoving, Everywhere };
     TemporalProbe temporal_probe = TemporalProbe::None;
 };
@@ -59,13 +66,15 @@ public:
     // Frame f's z and z_probed = P(T(probe)) (the same light gain): sigma^2 dz/dx taken from its Stein
     // correction, over the samples probe() counted. Before measure(f).
     void probe_temporal(int64_t f, const float* x, const float* y, const float* z, const float* z_probed);
-    // Where z's dependence on x counts (H x W, 0..1; before probe_temporal; never set: everywhere).
-    // A temporal model over the whole shot gives each frame a weight of about its rank over the frame
-    // count, too little to measure, so there the probe's estimate of it is only noise, which reaches
-    // the fit and brings back the prefilter's flicker (the still-scene jitter doubled); an average
-    // along the flow over a few frames gives it a tenth or more. The stage says where it ran which
-    // (lib/filters/hybrid_stage.cpp: the grown moving weight).
-    void set_temporal_reach(std::vector<float> weight);
+    // Where the temporal stage followed the motion (H x W, 0..1; before probe_temporal and blend; never
+    // set: the stage did not say). With TemporalProbe::WhereMoving, z's dependence on x counts times
+    // this weight: a temporal model over the whole shot gives each frame a weight of about its rank
+    // over the frame count, too little to measure, so there the probe's estimate of it is only noise,
+    // which reaches the fit and brings back the prefilter's flicker (the still-scene jitter doubled);
+    // an average along the flow over a few frames gives it a tenth or more. A tile with no pixel on
+    // the path pools its fit over still_pool frames. The stage says where it ran which
+    // (lib/filters/hybrid_stage.cpp: the grown moving weight, all zero for a still scene).
+    void set_motion_path(std::vector<float> weight);
     // The fit's sums for frame f from its noisy, prefiltered and temporal pixels (any frame order,
     // from several threads at once), once every frame is probed.
     void measure(int64_t f, const float* x, const float* y, const float* z);
@@ -82,7 +91,8 @@ private:
     // [frame][tile]: Stein's correction, noise variance, the fit's numerator and denominator, the
     // largest |x - y| a witness may have, the probe's step eps
     std::vector<std::vector<double>> stein_, sigma2_, num_, den_, limit_, eps_;
-    std::vector<float> reach_;  // set_temporal_reach's (empty: 1 everywhere)
+    std::vector<float> path_;     // set_motion_path's (empty: not said)
+    std::vector<char> off_path_;  // per tile: no pixel on the path (empty: not said)
 };
 
 }  // namespace statfilter

@@ -144,6 +144,15 @@ namespace {
 // Every frame probed (the prefilter: box_blur) and measured with the noisy frame itself as the
 // "temporal result" (a temporal filter that removed nothing); with `temporal`, that result's own
 // dependence probed too: the temporal result of the probe's frame is that frame.
+// A temporal result that is right on even frames and 10% too bright on odd ones: a fit that changes
+// from frame to frame, so the pooled shares differ with the pool.
+std::vector<float> biased_truth(const Frames& s, int64_t f) {
+    std::vector<float> z = s.truth[static_cast<size_t>(f)];
+    if (f % 2)
+        for (float& v : z) v *= 1.1f;
+    return z;
+}
+
 void probe_and_measure_itself(TimeTrust& trust, const Frames& s, bool temporal) {
     const auto frames = static_cast<int64_t>(s.noisy.size());
     for (int64_t f = 0; f < frames; ++f)
@@ -188,18 +197,20 @@ TEST(TimeTrust, ATemporalResultMadeFromTheNoisyFrameCountsItsOwnDependence) {
 }
 
 // The temporal result's dependence counts only where the stage says it followed the motion
-// (set_temporal_reach): with the same "temporal result" as above (the noisy frame itself), the left
+// (set_motion_path, with TemporalProbe::WhereMoving): with the same "temporal result" as above (the noisy frame itself), the left
 // 16 columns, reach 1, fall back to the prefiltered frame as with the full term; the right 32, reach
 // 0, keep the noise as without it. Tile borders at 16 pixels, so each tile is wholly one or the other.
 TEST(TimeTrust, TheTemporalResultsDependenceCountsWhereTheStageFollowedTheMotion) {
     const Frames s = make_frames(6, 0.3);
     const auto frames = static_cast<int64_t>(s.noisy.size());
-    TimeTrust trust(Shape{frames, kH, kW, kC});
+    TimeTrustOptions options;
+    options.temporal_probe = TimeTrustOptions::TemporalProbe::WhereMoving;
+    TimeTrust trust(Shape{frames, kH, kW, kC}, options);
     std::vector<float> reach(static_cast<size_t>(kH * kW), 0.0f);
     for (int64_t y = 0; y < kH; ++y)
         for (int64_t x = 0; x < 16; ++x) reach[static_cast<size_t>(y * kW + x)] = 1.0f;
-    trust.set_temporal_reach(reach);
-    EXPECT_THROW(trust.set_temporal_reach(std::vector<float>(7, 1.0f)), Error);
+    trust.set_motion_path(reach);
+    EXPECT_THROW(trust.set_motion_path(std::vector<float>(7, 1.0f)), Error);
     probe_and_measure_itself(trust, s, true);
     // The mean squared distance of columns [x0, x1) of a frame from another's.
     const auto part = [](const std::vector<float>& a, const std::vector<float>& b, int64_t x0, int64_t x1) {
@@ -222,6 +233,53 @@ TEST(TimeTrust, TheTemporalResultsDependenceCountsWhereTheStageFollowedTheMotion
         EXPECT_LT(part(z, prefiltered, 0, 8), 0.25 * part(z, noisy, 0, 8)) << "frame " << f;
         EXPECT_LT(part(z, noisy, 32, kW), 0.25 * part(z, prefiltered, 32, kW)) << "frame " << f;
     }
+}
+
+// Where the stage followed no motion in a tile (set_motion_path zero on all its pixels), the fit is
+// pooled over still_pool frames either side, elsewhere over pool: with the left tile on the path,
+// its columns are those of a blend pooled over 2 frames, the other two tiles' those of one pooled
+// over 6, to the bit (same sums, same order); and the two differ there, so the pool is seen.
+TEST(TimeTrust, AFitOffTheMotionPathPoolsOverStillPoolFrames) {
+    const Frames s = make_frames(14, 0.3);
+    const auto frames = static_cast<int64_t>(s.noisy.size());
+    const auto run = [&](int64_t pool, int64_t still_pool, bool path) {
+        TimeTrustOptions options;
+        options.pool = pool;
+        options.still_pool = still_pool;
+        TimeTrust trust(Shape{frames, kH, kW, kC}, options);
+        if (path) {
+            std::vector<float> weight(static_cast<size_t>(kH * kW), 0.0f);
+            for (int64_t y = 0; y < kH; ++y) weight[static_cast<size_t>(y * kW + 3)] = 0.5f;  // one column of tile 0
+            trust.set_motion_path(weight);
+        }
+        for (int64_t f = 0; f < frames; ++f)
+            trust.probe(f, s.noisy[static_cast<size_t>(f)].data(), s.prefiltered[static_cast<size_t>(f)].data(), box_blur);
+        for (int64_t f = 0; f < frames; ++f)  // the temporal result: the truth, biased on odd frames
+            trust.measure(f, s.noisy[static_cast<size_t>(f)].data(), s.prefiltered[static_cast<size_t>(f)].data(),
+                          biased_truth(s, f).data());
+        std::vector<std::vector<float>> out;
+        for (int64_t f = 0; f < frames; ++f) {
+            out.push_back(biased_truth(s, f));
+            trust.blend(f, s.prefiltered[static_cast<size_t>(f)].data(), out.back().data());
+        }
+        return out;
+    };
+    const auto mixed = run(2, 6, true), narrow = run(2, 2, false), wide = run(6, 6, false);
+    // Columns [0, 8) take tile 0 alone, [24, 48) only tiles 1 and 2 (the blend interpolates between centres).
+    double apart = 0;
+    for (int64_t f = 0; f < frames; ++f)
+        for (int64_t y = 0; y < kH; ++y)
+            for (int64_t x = 0; x < kW; ++x)
+                for (int64_t c = 0; c < kC; ++c) {
+                    const auto i = static_cast<size_t>((y * kW + x) * kC + c);
+                    const auto g = static_cast<size_t>(f);
+                    if (x < 8) ASSERT_EQ(mixed[g][i], narrow[g][i]) << "frame " << f << " x " << x;
+                    if (x >= 24) {
+                        ASSERT_EQ(mixed[g][i], wide[g][i]) << "frame " << f << " x " << x;
+                        apart = std::max(apart, std::fabs(static_cast<double>(wide[g][i]) - narrow[g][i]));
+                    }
+                }
+    EXPECT_GT(apart, 1e-3);
 }
 
 // The share depends on the data, not its units; zero in gives zero out.
