@@ -197,9 +197,10 @@ TEST(TimeTrust, ATemporalResultMadeFromTheNoisyFrameCountsItsOwnDependence) {
 }
 
 // The temporal result's dependence counts only where the stage says it followed the motion
-// (set_motion_path, with TemporalProbe::WhereMoving): with the same "temporal result" as above (the noisy frame itself), the left
-// 16 columns, reach 1, fall back to the prefiltered frame as with the full term; the right 32, reach
-// 0, keep the noise as without it. Tile borders at 16 pixels, so each tile is wholly one or the other.
+// (set_motion_path, with TemporalProbe::WhereMoving): with the same "temporal result" as above (the
+// noisy frame itself), the left 16 columns, reach 1, fall back to the prefiltered frame as with the
+// full term; the right 32, reach 0, keep the noise as without it. Tile borders at 16 pixels, so each
+// tile is wholly one or the other.
 TEST(TimeTrust, TheTemporalResultsDependenceCountsWhereTheStageFollowedTheMotion) {
     const Frames s = make_frames(6, 0.3);
     const auto frames = static_cast<int64_t>(s.noisy.size());
