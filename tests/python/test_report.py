@@ -70,12 +70,12 @@ def test_the_page_has_every_part(shot):
     # Self-contained: nothing is fetched.
     assert not re.search(r'(src|href)="(?!data:)', page)
     # The first, the worst (against REF) and the last frame, three panels each; maps: alpha, beta of
-    # each frame shown, the rank map, and auto's own alpha.
+    # each frame shown, the rank map, and auto's own alpha and motion path (all zero: a still shot).
     worst = 1 + int(np.argmax([statfilter.compare(den[i:i + 1], ref[i:i + 1])["rel_mse"] for i in range(8)]))
     shown = [int(f) for f in re.findall(r'<div class="frame" data-frame="(\d+)">', page)]
     assert shown == sorted({1, worst, 8})
-    assert len(images(page)) == 3 * len(shown) + len(shown) + 3
-    assert page.count('<svg class="legend"') == len(shown) + 3
+    assert len(images(page)) == 3 * len(shown) + len(shown) + 4
+    assert page.count('<svg class="legend"') == len(shown) + 4
 
 
 def test_pictures_are_the_frames_at_one_exposure(shot):
@@ -121,9 +121,9 @@ def test_without_a_reference_and_bad_arguments(shot, tmp_path):
     subprocess.run([sys.executable, "-m", "statfilter.report", NOISY, str(d / "den.####.exr"), "--frames", FRAMES,
                     "--show", "3", "--no-maps", "-o", str(page)], check=True, capture_output=True)
     text = page.read_text()
-    assert '<section id="errors">' not in text and '<section id="maps">' in text  # auto's alpha only
+    assert '<section id="errors">' not in text and '<section id="maps">' in text  # auto's alpha and motion path only
     assert re.findall(r'data-frame="(\d+)"', text) == ["3"]
-    assert len(images(text)) == 2 + 1
+    assert len(images(text)) == 2 + 2
     bad = subprocess.run([sys.executable, "-m", "statfilter.report", NOISY, str(d / "den.####.exr"), "--frames", FRAMES,
                           "--show", "40", "-o", str(tmp_path / "x.html")], capture_output=True, text=True)
     assert bad.returncode == 2 and "frame(s) 40 are not in the sequence" in bad.stderr
