@@ -126,8 +126,8 @@ void TimeTrust::probe_temporal(int64_t f, const float* x, const float* y, const 
     const std::vector<double>& eps = eps_[static_cast<size_t>(f)];
     const std::vector<double>& sigma2 = sigma2_[static_cast<size_t>(f)];
     const std::vector<double>& limit = limit_[static_cast<size_t>(f)];
+    const bool where_moving = options_.temporal_probe == TimeTrustOptions::TemporalProbe::WhereMoving;
     each_sample_by_tile(shape_, options_.tile, tiles_x_, [&](size_t t, int64_t i) {
-        const bool where_moving = options_.temporal_probe == TimeTrustOptions::TemporalProbe::WhereMoving;
         const double reach = where_moving && !path_.empty() ? path_[static_cast<size_t>(i / shape_.channels)] : 1.0;
         if (reach == 0) return;
         const double s = static_cast<double>(probe_sample(x[i], eps[t], f, i)) - x[i];

@@ -32,7 +32,7 @@ struct TimeTrustOptions {
     // Where the temporal stage said it followed no motion in a tile (set_motion_path: it modelled the
     // tile's pixels with its model of the whole shot), frames t - still_pool .. t + still_pool share
     // the tile's fit: there z's relation to y is the same at every frame, and a share fitted on five
-    // frames jumps from frame to frame (the still-scene jitter: cornell_moving 0.108 -> 0.073 of
+    // frames jumps from frame to frame (the still-scene jitter: cornell_moving 0.108 -> 0.075 of
     // OIDN's at 4 spp). Chosen leave-one-scene-out (docs/preset_loso.md).
     int64_t still_pool = 8;
     // The probe's step, in units of the tile's noise.
