@@ -168,14 +168,18 @@ void TimeTrust::measure(int64_t f, const float* x, const float* y, const float* 
 double TimeTrust::blend(int64_t f, const float* y, float* z) const {
     const int64_t W = shape_.width, H = shape_.height, C = shape_.channels;
     const size_t tiles = static_cast<size_t>(tiles_x_ * tiles_y_);
+    // Every frame a tile's pool reaches must have been measured.
+    const bool any_off_path = std::find(off_path_.begin(), off_path_.end(), 1) != off_path_.end();
+    const int64_t widest = any_off_path ? std::max(options_.pool, options_.still_pool) : options_.pool;
+    for (int64_t g = std::max<int64_t>(0, f - widest); g <= std::min(shape_.frames - 1, f + widest); ++g)
+        if (num_[static_cast<size_t>(g)].size() != tiles)
+            throw Error(Status::Internal, "time trust: frame " + std::to_string(g) + " was not measured");
     std::vector<double> share(tiles);
     double mean = 0;
     for (size_t t = 0; t < tiles; ++t) {
         const int64_t pool = !off_path_.empty() && off_path_[t] ? options_.still_pool : options_.pool;
         double num = 0, den = 0, sigma2 = 0, frames = 0;
         for (int64_t g = std::max<int64_t>(0, f - pool); g <= std::min(shape_.frames - 1, f + pool); ++g) {
-            if (num_[static_cast<size_t>(g)].size() != tiles)
-                throw Error(Status::Internal, "time trust: frame " + std::to_string(g) + " was not measured");
             num += num_[static_cast<size_t>(g)][t];
             den += den_[static_cast<size_t>(g)][t];
             sigma2 += sigma2_[static_cast<size_t>(g)][t];

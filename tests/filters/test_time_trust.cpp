@@ -141,9 +141,6 @@ TEST(TimeTrust, SteinsCorrectionLetsATrueTemporalResultThrough) {
 
 namespace {
 
-// Every frame probed (the prefilter: box_blur) and measured with the noisy frame itself as the
-// "temporal result" (a temporal filter that removed nothing); with `temporal`, that result's own
-// dependence probed too: the temporal result of the probe's frame is that frame.
 // A temporal result that is right on even frames and 10% too bright on odd ones: a fit that changes
 // from frame to frame, so the pooled shares differ with the pool.
 std::vector<float> biased_truth(const Frames& s, int64_t f) {
@@ -153,6 +150,9 @@ std::vector<float> biased_truth(const Frames& s, int64_t f) {
     return z;
 }
 
+// Every frame probed (the prefilter: box_blur) and measured with the noisy frame itself as the
+// "temporal result" (a temporal filter that removed nothing); with `temporal`, that result's own
+// dependence probed too: the temporal result of the probe's frame is that frame.
 void probe_and_measure_itself(TimeTrust& trust, const Frames& s, bool temporal) {
     const auto frames = static_cast<int64_t>(s.noisy.size());
     for (int64_t f = 0; f < frames; ++f)
